@@ -1,0 +1,102 @@
+#include "runtime/app.hpp"
+
+#include <cstdio>
+#include <cstdlib>
+#include <exception>
+#include <iostream>
+
+#include "core/config.hpp"
+#include "runtime/channels.hpp"
+
+namespace tiller::app {
+
+const std::string& Args::get(const std::string& name) const {
+  static const std::string empty;
+  auto it = values.find(name);
+  return it == values.end() ? empty : it->second;
+}
+
+bool Args::flag(const std::string& name) const {
+  auto it = values.find(name);
+  return it != values.end() && !it->second.empty() && it->second != "0";
+}
+
+namespace {
+void usage(const Spec& spec, std::ostream& os) {
+  os << "Usage: " << spec.program << " [options]\n" << spec.summary << "\n\nOptions:\n";
+  os << "  --help               show this help\n";
+  os << "  --config FILE        YAML config" << (spec.default_config.empty() ? "" : " (default: " + spec.default_config + ")") << "\n";
+  os << "  --lcm-url URL        LCM URL (default: " << channels::kDefaultLcmUrl << ")\n";
+  for (const auto& o : spec.options) {
+    std::string lhs = "--" + o.name + (o.value_name.empty() ? "" : " " + o.value_name);
+    if (lhs.size() < 20) lhs.resize(20, ' ');
+    os << "  " << lhs << " " << o.help;
+    if (!o.default_value.empty()) os << " (default: " << o.default_value << ")";
+    os << "\n";
+  }
+}
+}  // namespace
+
+Args parse(int argc, char** argv, const Spec& spec) {
+  Args a;
+  a.config = spec.default_config;
+  const char* env_url = std::getenv("LCM_DEFAULT_URL");
+  a.lcm_url = env_url ? env_url : channels::kDefaultLcmUrl;
+  for (const auto& o : spec.options) {
+    if (!o.default_value.empty()) a.values[o.name] = o.default_value;
+  }
+  auto bad = [&](const std::string& msg) {
+    std::cerr << spec.program << ": " << msg << "\n";
+    usage(spec, std::cerr);
+    std::exit(2);
+  };
+  for (int i = 1; i < argc; ++i) {
+    std::string s = argv[i];
+    std::string value;
+    bool has_value = false;
+    if (auto eq = s.find('='); s.rfind("--", 0) == 0 && eq != std::string::npos) {
+      value = s.substr(eq + 1);
+      s = s.substr(0, eq);
+      has_value = true;
+    }
+    auto take = [&]() -> std::string {
+      if (has_value) return value;
+      if (i + 1 >= argc) bad("option " + s + " needs a value");
+      return argv[++i];
+    };
+    if (s == "--help" || s == "-h") {
+      usage(spec, std::cout);
+      std::exit(0);
+    } else if (s == "--config") {
+      a.config = take();
+    } else if (s == "--lcm-url") {
+      a.lcm_url = take();
+    } else if (s.rfind("--", 0) == 0) {
+      const std::string name = s.substr(2);
+      bool known = false;
+      for (const auto& o : spec.options) {
+        if (o.name != name) continue;
+        known = true;
+        a.values[name] = o.value_name.empty() ? "1" : take();
+      }
+      if (!known) bad("unknown option " + s);
+    } else {
+      a.positional.push_back(s);
+    }
+  }
+  return a;
+}
+
+int guarded_main(const std::string& program, const std::function<int()>& body) {
+  try {
+    return body();
+  } catch (const config::Error& e) {
+    std::cerr << program << ": config error: " << e.what() << "\n";
+    return 2;
+  } catch (const std::exception& e) {
+    std::cerr << program << ": " << e.what() << "\n";
+    return 2;
+  }
+}
+
+}  // namespace tiller::app
