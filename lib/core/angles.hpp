@@ -8,8 +8,12 @@ namespace tiller {
 
 constexpr double kPi = 3.14159265358979323846;
 
-constexpr double deg_to_rad(double d) { return d * kPi / 180.0; }
-constexpr double rad_to_deg(double r) { return r * 180.0 / kPi; }
+constexpr double deg_to_rad(double d) {
+  return d * kPi / 180.0;
+}
+constexpr double rad_to_deg(double r) {
+  return r * 180.0 / kPi;
+}
 
 // Wraps an angle to (-pi, pi].
 inline double wrap_pi(double a) {
@@ -20,6 +24,8 @@ inline double wrap_pi(double a) {
 }
 
 // Smallest signed difference a - b, in (-pi, pi].
-inline double angle_diff(double a, double b) { return wrap_pi(a - b); }
+inline double angle_diff(double a, double b) {
+  return wrap_pi(a - b);
+}
 
 }  // namespace tiller

@@ -8,7 +8,9 @@
 
 namespace tiller {
 
-inline bool finite(double v) { return std::isfinite(v); }
+inline bool finite(double v) {
+  return std::isfinite(v);
+}
 
 template <std::size_t N>
 bool all_finite(const double (&v)[N]) {
@@ -21,7 +23,9 @@ inline bool all_finite(const double* v, std::size_t n) {
     if (!std::isfinite(v[i])) return false;
   return true;
 }
-inline bool all_finite(const std::vector<double>& v) { return all_finite(v.data(), v.size()); }
+inline bool all_finite(const std::vector<double>& v) {
+  return all_finite(v.data(), v.size());
+}
 
 // Finite and within [lo, hi].
 inline bool in_range(double v, double lo, double hi) {

@@ -77,7 +77,9 @@ Value Value::parse(const std::string& text, const std::string& name) {
   return Value(doc, root, "");
 }
 
-const std::string& Value::file() const { return doc_->file; }
+const std::string& Value::file() const {
+  return doc_->file;
+}
 
 int Value::line() const {
   const auto m = node_->Mark();
@@ -92,10 +94,18 @@ void Value::fail(std::string_view expected) const {
   throw Error(msg);
 }
 
-bool Value::is_map() const { return node_->IsMap(); }
-bool Value::is_sequence() const { return node_->IsSequence(); }
-bool Value::is_scalar() const { return node_->IsScalar(); }
-bool Value::is_null() const { return node_->IsNull(); }
+bool Value::is_map() const {
+  return node_->IsMap();
+}
+bool Value::is_sequence() const {
+  return node_->IsSequence();
+}
+bool Value::is_scalar() const {
+  return node_->IsScalar();
+}
+bool Value::is_null() const {
+  return node_->IsNull();
+}
 
 bool Value::has(std::string_view key) const {
   return node_->IsMap() && (*node_)[std::string(key)].IsDefined();

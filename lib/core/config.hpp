@@ -35,7 +35,9 @@ struct Range {
   double min = -std::numeric_limits<double>::max();
   double max = std::numeric_limits<double>::max();
   static Range at_least(double lo) { return {lo, std::numeric_limits<double>::max()}; }
-  static Range positive() { return {std::numeric_limits<double>::min(), std::numeric_limits<double>::max()}; }
+  static Range positive() {
+    return {std::numeric_limits<double>::min(), std::numeric_limits<double>::max()};
+  }
 };
 
 class Value {

@@ -10,11 +10,15 @@ using TimeUs = std::int64_t;
 
 constexpr TimeUs kUsPerSecond = 1'000'000;
 
-constexpr double to_seconds(TimeUs t) { return static_cast<double>(t) * 1e-6; }
+constexpr double to_seconds(TimeUs t) {
+  return static_cast<double>(t) * 1e-6;
+}
 constexpr TimeUs from_seconds(double s) {
   return static_cast<TimeUs>(s * 1e6 + (s >= 0 ? 0.5 : -0.5));
 }
-constexpr TimeUs from_hz(double hz) { return from_seconds(1.0 / hz); }
+constexpr TimeUs from_hz(double hz) {
+  return from_seconds(1.0 / hz);
+}
 
 // Tracks the time an input was last accepted and says whether it is still fresh.
 // Counts each transition from fresh to stale (what heartbeats report as "stale").

@@ -25,7 +25,8 @@ namespace {
 void usage(const Spec& spec, std::ostream& os) {
   os << "Usage: " << spec.program << " [options]\n" << spec.summary << "\n\nOptions:\n";
   os << "  --help               show this help\n";
-  os << "  --config FILE        YAML config" << (spec.default_config.empty() ? "" : " (default: " + spec.default_config + ")") << "\n";
+  os << "  --config FILE        YAML config"
+     << (spec.default_config.empty() ? "" : " (default: " + spec.default_config + ")") << "\n";
   os << "  --lcm-url URL        LCM URL (default: " << channels::kDefaultLcmUrl << ")\n";
   for (const auto& o : spec.options) {
     std::string lhs = "--" + o.name + (o.value_name.empty() ? "" : " " + o.value_name);

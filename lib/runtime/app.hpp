@@ -10,22 +10,22 @@
 namespace tiller::app {
 
 struct Option {
-  std::string name;         // long name without dashes, e.g. "vehicle"
-  std::string value_name;   // e.g. "FILE"; empty for a flag
+  std::string name;        // long name without dashes, e.g. "vehicle"
+  std::string value_name;  // e.g. "FILE"; empty for a flag
   std::string help;
   std::string default_value;
 };
 
 struct Spec {
-  std::string program;       // e.g. "tiller-mixer"
-  std::string summary;       // one line: what it does
+  std::string program;         // e.g. "tiller-mixer"
+  std::string summary;         // one line: what it does
   std::string default_config;  // relative to the source tree's config/, may be empty
   std::vector<Option> options;
 };
 
 struct Args {
-  std::string config;   // path to the YAML config
-  std::string lcm_url;  // LCM URL (TTL 0 unless given)
+  std::string config;                         // path to the YAML config
+  std::string lcm_url;                        // LCM URL (TTL 0 unless given)
   std::map<std::string, std::string> values;  // program-specific options (flags: "1")
   std::vector<std::string> positional;
   const std::string& get(const std::string& name) const;

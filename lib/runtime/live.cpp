@@ -1,9 +1,9 @@
 #include "runtime/live.hpp"
 
-#include <lcm/lcm-cpp.hpp>
 #include <poll.h>
 #include <signal.h>
 #include <time.h>
+#include <lcm/lcm-cpp.hpp>
 
 #include <algorithm>
 #include <atomic>
@@ -15,7 +15,9 @@ namespace tiller {
 
 namespace {
 std::atomic<bool> g_signalled{false};
-extern "C" void on_signal(int) { g_signalled.store(true); }
+extern "C" void on_signal(int) {
+  g_signalled.store(true);
+}
 }  // namespace
 
 TimeUs wall_time_us() {
@@ -79,18 +81,21 @@ void LiveExecutor::on_message(const lcm::ReceiveBuffer* rbuf, const std::string&
                               LiveExecutor* self) {
   const TimeUs now = wall_time_us();
   for (Node* n : self->nodes_) {
-    if (n->subscribes_to(channel)) n->deliver(channel, rbuf->data, static_cast<int>(rbuf->data_size), now);
+    if (n->subscribes_to(channel))
+      n->deliver(channel, rbuf->data, static_cast<int>(rbuf->data_size), now);
   }
 }
 
-void LiveExecutor::stop() { stop_ = true; }
+void LiveExecutor::stop() {
+  stop_ = true;
+}
 
 void LiveExecutor::publish_raw(const std::string& channel, const void* data, int size) {
   lcm_->publish(channel, data, static_cast<unsigned>(size));
 }
 
 int LiveExecutor::run() {
-  struct sigaction sa{};
+  struct sigaction sa {};
   sa.sa_handler = on_signal;
   sigemptyset(&sa.sa_mask);
   sigaction(SIGINT, &sa, nullptr);

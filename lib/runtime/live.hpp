@@ -14,7 +14,7 @@
 namespace lcm {
 class LCM;
 class ReceiveBuffer;
-}
+}  // namespace lcm
 
 namespace tiller {
 
@@ -47,7 +47,8 @@ class LiveExecutor {
     int fd;
     std::function<void(TimeUs)> cb;
   };
-  static void on_message(const lcm::ReceiveBuffer* rbuf, const std::string& channel, LiveExecutor* self);
+  static void on_message(const lcm::ReceiveBuffer* rbuf, const std::string& channel,
+                         LiveExecutor* self);
 
   std::unique_ptr<lcm::LCM> lcm_;
   std::unique_ptr<LcmBus> bus_;

@@ -25,7 +25,9 @@ class LogWriter {
   explicit LogWriter(const std::string& path);  // throws std::runtime_error if it cannot open
   ~LogWriter();
   void write(const std::string& channel, const std::uint8_t* data, int size, TimeUs time);
-  void write(const Event& e) { write(e.channel, e.data.data(), static_cast<int>(e.data.size()), e.time); }
+  void write(const Event& e) {
+    write(e.channel, e.data.data(), static_cast<int>(e.data.size()), e.time);
+  }
 
  private:
   std::unique_ptr<lcm::LogFile> file_;

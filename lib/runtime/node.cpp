@@ -11,7 +11,8 @@ Node::Node(std::string name, TimeUs tick_period_us)
     : name_(std::move(name)), tick_period_(tick_period_us > 0 ? tick_period_us : kUsPerSecond) {
   heartbeat_channel_ = channels::kHeartbeatPrefix;
   for (char c : name_) {
-    heartbeat_channel_ += (c == '-') ? '_' : static_cast<char>(std::toupper(static_cast<unsigned char>(c)));
+    heartbeat_channel_ +=
+        (c == '-') ? '_' : static_cast<char>(std::toupper(static_cast<unsigned char>(c)));
   }
   heartbeat_.process = name_;
   heartbeat_.state = heartbeat_t::STATE_OK;
@@ -57,7 +58,9 @@ TimeUs Node::next_tick_at_or_after(TimeUs t) const {
   return k * tick_period_;
 }
 
-std::int64_t& Node::counter(const std::string& name) { return counters_[name]; }
+std::int64_t& Node::counter(const std::string& name) {
+  return counters_[name];
+}
 
 std::int64_t Node::counter_value(const std::string& name) const {
   auto it = counters_.find(name);

@@ -79,7 +79,8 @@ class Node {
 
   // A named counter, created on first use (do it in the constructor); the reference stays valid.
   std::int64_t& counter(const std::string& name);
-  // Counts a dropped message under `reason` and in the total; returns false for `return reject(..)`.
+  // Counts a dropped message under `reason` and in the total; returns false for `return
+  // reject(..)`.
   bool reject(std::int64_t& reason) {
     ++reason;
     ++rejected_;

@@ -13,11 +13,14 @@ class ReplayExecutor::CollectBus : public Bus {
   ReplayExecutor& ex_;
 };
 
-ReplayExecutor::ReplayExecutor(Node& node) : node_(node), bus_(std::make_unique<CollectBus>(*this)) {
+ReplayExecutor::ReplayExecutor(Node& node)
+    : node_(node), bus_(std::make_unique<CollectBus>(*this)) {
   node_.attach(bus_.get());
 }
 
-ReplayExecutor::~ReplayExecutor() { node_.attach(nullptr); }
+ReplayExecutor::~ReplayExecutor() {
+  node_.attach(nullptr);
+}
 
 void ReplayExecutor::run(const std::vector<Event>& log, std::optional<TimeUs> start,
                          std::optional<TimeUs> end) {
