@@ -1,0 +1,271 @@
+// tiller-launch: starts the processes of a launch file (config/launch/*.yaml), prefixes their
+// output with their names, restarts them per policy, logs the run with lcm-logger, and stops
+// everything in reverse order on Ctrl-C / SIGTERM or when the run's `ends_with` process exits.
+// Exit status: 0 clean, 1 the run failed, 2 bad launch file or usage, 3 a critical process failed.
+#include <poll.h>
+#include <sys/prctl.h>
+#include <sys/signalfd.h>
+#include <sys/wait.h>
+#include <unistd.h>
+
+#include <algorithm>
+#include <climits>
+#include <csignal>
+#include <cstring>
+#include <ctime>
+#include <filesystem>
+#include <fstream>
+#include <iostream>
+#include <sstream>
+
+#include "core/config.hpp"
+#include "launch/launch_file.hpp"
+#include "launch/posix_host.hpp"
+#include "launch/supervisor.hpp"
+#include "runtime/app.hpp"
+#include "runtime/live.hpp"
+
+using namespace tiller;
+using namespace tiller::launch;
+
+namespace {
+
+std::vector<std::string> split_list(const std::string& s) {
+  std::vector<std::string> out;
+  std::stringstream ss(s);
+  std::string item;
+  while (std::getline(ss, item, ',')) {
+    if (!item.empty()) out.push_back(item);
+  }
+  return out;
+}
+
+std::string default_status_file(const std::string& launch_name) {
+  const char* run = std::getenv("XDG_RUNTIME_DIR");
+  return std::string(run && *run ? run : "/tmp") + "/tiller-launch-" + launch_name + ".status";
+}
+
+std::string now_stamp() {
+  std::time_t t = std::time(nullptr);
+  std::tm tm{};
+  ::localtime_r(&t, &tm);
+  char buf[64];
+  std::strftime(buf, sizeof buf, "%Y-%m-%d-%H%M%S", &tm);
+  return buf;
+}
+
+bool explicit_option(int argc, char** argv, const std::string& name) {
+  for (int i = 1; i < argc; ++i) {
+    const std::string s = argv[i];
+    if (s == "--" + name || s.rfind("--" + name + "=", 0) == 0) return true;
+  }
+  return false;
+}
+
+int run(int argc, char** argv) {
+  const app::Spec spec{
+      "tiller-launch",
+      "Starts the processes of a launch file, logs the run, stops them cleanly.\n"
+      "Usage: tiller-launch [options] LAUNCH_FILE   |   tiller-launch status LAUNCH_FILE\n"
+      "Exit status: 0 clean, 1 the run failed, 2 bad launch file or usage, 3 a critical process "
+      "failed.",
+      "",
+      {{"group", "G[,G..]", "start only the processes of these groups", ""},
+       {"only", "NAME[,NAME..]", "start only these processes (with --group: either)", ""},
+       {"check", "", "check the launch file and the programs it names, print the plan, exit", ""},
+       {"no-log", "", "do not start lcm-logger", ""},
+       {"log-dir", "DIR", "directory for the log (default: the launch file's logger.dir)", ""},
+       {"log-file", "FILE", "exact log file name (default: <log-dir>/<date-time>.lcmlog)", ""},
+       {"status-every", "S",
+        "print the status table every S seconds (0: only at the end and on SIGUSR1)", "0"},
+       {"status-file", "FILE",
+        "status table kept up to date here (default: $XDG_RUNTIME_DIR or /tmp)", ""}}};
+  const app::Args args = app::parse(argc, argv, spec);
+  if (args.positional.size() == 2 && args.positional[0] == "status") {
+    const LaunchFile lf = load_launch_file(args.positional[1]);
+    const std::string f =
+        args.get("status-file").empty() ? default_status_file(lf.name) : args.get("status-file");
+    std::ifstream in(f);
+    if (!in) {
+      std::cerr << "tiller-launch: no status at " << f << " (is " << lf.name << " running?)\n";
+      return 1;
+    }
+    std::cout << in.rdbuf();
+    return 0;
+  }
+  if (args.positional.size() != 1) {
+    std::cerr << "tiller-launch: give one launch file (see --help)\n";
+    return kExitUsage;
+  }
+  LaunchFile lf = load_launch_file(args.positional[0]);
+  if (explicit_option(argc, argv, "lcm-url")) lf.lcm_url = with_default_ttl(args.lcm_url);
+  std::vector<std::size_t> chosen;
+  try {
+    chosen = select(lf, split_list(args.get("group")), split_list(args.get("only")));
+  } catch (const std::invalid_argument& e) {
+    std::cerr << "tiller-launch: " << e.what() << "\n";
+    return kExitUsage;
+  }
+
+  // The run's log.
+  const bool log = lf.logger.enabled && !args.flag("no-log");
+  std::string log_dir = args.get("log-dir").empty() ? lf.logger.dir : args.get("log-dir");
+  if (!log_dir.empty() && log_dir[0] != '/') log_dir = lf.root + "/" + log_dir;
+  std::string log_file = args.get("log-file");
+  if (log_file.empty())
+    log_file = log_dir + "/" + now_stamp() + ".lcmlog";
+  else if (log_file[0] != '/')
+    log_file = std::filesystem::absolute(log_file).string();
+
+  std::vector<ProcessSpec> procs;
+  if (log) {
+    ProcessSpec lg;
+    lg.name = "logger";
+    lg.command = "lcm-logger";
+    lg.group = "logger";
+    lg.args = {"--lcm-url=" + lf.lcm_url, "--channel=" + lf.logger.channels};
+    if (lf.logger.split_mb > 0) {
+      lg.args.push_back("--split-mb=" + std::to_string(lf.logger.split_mb));
+      lg.args.push_back("--increment");
+    } else if (lf.logger.rotate > 0) {
+      lg.args.push_back("--rotate=" + std::to_string(lf.logger.rotate));
+    }
+    lg.args.push_back(log_file);
+    lg.restart = Restart::kOnFailure;
+    procs.push_back(lg);
+  }
+  for (std::size_t i : chosen) procs.push_back(lf.processes[i]);
+  if (log && procs.size() > 1)
+    procs[1].start_delay_s = std::max(procs[1].start_delay_s, 0.3);  // logger subscribes first
+
+  std::size_t width = 6;
+  for (const auto& p : procs) width = std::max(width, p.name.size());
+  const std::map<std::string, std::string> vars{
+      {"LCM_URL", lf.lcm_url}, {"ROOT", lf.root}, {"LOG_FILE", log_file}, {"LAUNCH_NAME", lf.name}};
+  PosixHost host(lf.root, vars, {self_dir()}, {{"LCM_DEFAULT_URL", lf.lcm_url}}, stdout, width);
+
+  // Refuse a plan whose programs do not exist, naming the line.
+  bool bad = false;
+  for (const auto& p : procs) {
+    try {
+      const auto a = host.argv_of(p);
+      if (host.resolve(a[0]).empty()) {
+        std::cerr << "tiller-launch: " << lf.path << ":" << p.line << ": " << p.name
+                  << ".command: expected a program next to tiller-launch or on PATH, got \"" << a[0]
+                  << "\"\n";
+        bad = true;
+      }
+    } catch (const std::exception& e) {
+      std::cerr << "tiller-launch: " << lf.path << ":" << p.line << ": " << p.name << ": "
+                << e.what() << "\n";
+      bad = true;
+    }
+  }
+  if (bad) return kExitUsage;
+  if (args.flag("check")) {
+    std::cout << lf.path << ": " << lf.name << " (" << lf.description << ")\n  root " << lf.root
+              << "\n  lcm  " << lf.lcm_url
+              << "\n  ends with: " << (lf.ends_with.empty() ? "(Ctrl-C)" : lf.ends_with) << "\n";
+    for (const auto& p : procs) {
+      std::cout << "  [" << p.group << "] " << p.name << ": " << host.resolve(host.argv_of(p)[0]);
+      for (std::size_t k = 1; k < host.argv_of(p).size(); ++k)
+        std::cout << " " << host.argv_of(p)[k];
+      std::cout << "  (restart " << to_string(p.restart) << ")\n";
+    }
+    return kExitOk;
+  }
+  if (log) std::filesystem::create_directories(std::filesystem::path(log_file).parent_path());
+
+  // Signals arrive through a signalfd; children get them unblocked before exec.
+  sigset_t mask;
+  sigemptyset(&mask);
+  for (int s : {SIGCHLD, SIGINT, SIGTERM, SIGHUP, SIGUSR1}) sigaddset(&mask, s);
+  ::sigprocmask(SIG_BLOCK, &mask, nullptr);
+  std::signal(SIGPIPE, SIG_IGN);
+  const int sfd = ::signalfd(-1, &mask, SFD_CLOEXEC | SFD_NONBLOCK);
+  ::prctl(PR_SET_CHILD_SUBREAPER, 1);  // orphaned grandchildren come back to us to be reaped
+
+  const std::string status_file =
+      args.get("status-file").empty() ? default_status_file(lf.name) : args.get("status-file");
+  auto note = [&](const std::string& s) { host.print("launch", s); };
+  Supervisor sup(procs, lf.ends_with, lf.grace_s, host, note);
+  host.print("launch",
+             lf.name + ": " + std::to_string(procs.size()) + " processes, lcm " + lf.lcm_url);
+  if (log) host.print("launch", "log: " + log_file);
+  const TimeUs t0 = wall_time_us();
+  sup.start(t0);
+
+  const double every = std::stod(args.get("status-every"));
+  TimeUs next_status = every > 0 ? t0 + from_seconds(every) : INT64_MAX;
+  TimeUs next_file = t0;
+  int interrupts = 0;
+  TimeUs drain_until = INT64_MAX;
+  for (;;) {
+    TimeUs now = wall_time_us();
+    if (now >= next_file) {
+      std::ofstream(status_file) << lf.name << " at " << now_stamp()
+                                 << (sup.stopping() ? " (stopping)" : "") << "\n"
+                                 << sup.status_table(now);
+      next_file = now + kUsPerSecond;
+    }
+    if (now >= next_status) {
+      std::cout << sup.status_table(now) << std::flush;
+      next_status = now + from_seconds(every);
+    }
+    if (sup.finished() && drain_until == INT64_MAX) drain_until = now + 200'000;
+    const auto fds = host.output_fds();
+    if (sup.finished() && (fds.empty() || now >= drain_until)) break;
+    TimeUs wake =
+        std::min({sup.next_deadline(), next_status, next_file, drain_until, now + kUsPerSecond});
+    const int timeout_ms = static_cast<int>(std::clamp<TimeUs>((wake - now + 999) / 1000, 0, 1000));
+    std::vector<pollfd> pfds{{sfd, POLLIN, 0}};
+    for (int fd : fds) pfds.push_back({fd, POLLIN, 0});
+    ::poll(pfds.data(), pfds.size(), timeout_ms);
+    now = wall_time_us();
+    for (std::size_t k = 1; k < pfds.size(); ++k) {
+      if (pfds[k].revents) host.on_readable(pfds[k].fd);
+    }
+    signalfd_siginfo si{};
+    while (::read(sfd, &si, sizeof si) == static_cast<ssize_t>(sizeof si)) {
+      const int sig = static_cast<int>(si.ssi_signo);
+      if (sig == SIGCHLD) {
+        int st = 0;
+        pid_t pid;
+        while ((pid = ::waitpid(-1, &st, WNOHANG)) > 0) {
+          ExitInfo e;
+          if (WIFEXITED(st)) e.code = WEXITSTATUS(st);
+          if (WIFSIGNALED(st)) e.signal = WTERMSIG(st);
+          sup.on_exit(pid, e, now);
+        }
+      } else if (sig == SIGUSR1) {
+        std::cout << sup.status_table(now) << std::flush;
+      } else {
+        ++interrupts;
+        if (interrupts == 1) {
+          sup.request_stop(now, std::string("SIG") + sigabbrev_np(sig), kExitOk);
+        } else {
+          note("second SIG" + std::string(sigabbrev_np(sig)) + ": SIGKILL to everything");
+          for (const auto& p : sup.processes()) host.signal(p.pid, SIGKILL);
+        }
+      }
+    }
+    sup.poll(now);
+  }
+  const TimeUs end = wall_time_us();
+  std::cout << sup.status_table(end);
+  std::ofstream(status_file) << lf.name << " finished at " << now_stamp() << ": "
+                             << sup.stop_reason() << "\n"
+                             << sup.status_table(end);
+  if (log) {
+    std::cout << "tiller-launch: log " << log_file << (lf.logger.split_mb > 0 ? ".*" : "") << "\n";
+  }
+  std::cout << "tiller-launch: " << sup.stop_reason() << "; exit status " << sup.exit_status()
+            << "\n";
+  return sup.exit_status();
+}
+
+}  // namespace
+
+int main(int argc, char** argv) {
+  return app::guarded_main("tiller-launch", [&] { return run(argc, argv); });
+}

@@ -1,0 +1,89 @@
+// A launch file: the processes of one run (a vehicle, a simulation), how to start them, and
+// what to do when one exits. Loaded strictly from YAML (lib/core config): an unknown key, a
+// wrong type, a duplicate name, an unknown dependency or a dependency cycle is refused with the
+// file, line and key at fault. Times in seconds.
+//
+//   name: sim-usv-mission
+//   lcm_url: udpm://239.255.76.67:7667?ttl=0   # children get it as LCM_DEFAULT_URL and ${LCM_URL}
+//   root: ../..                 # working directory of every process, relative to this file
+//   grace_s: 3                  # SIGTERM -> SIGKILL delay when stopping
+//   ends_with: mission          # the run ends when this process exits (its exit code decides)
+//   logger: {enabled: true, dir: logs, channels: ".*", split_mb: 0, rotate: 0}
+//   processes:
+//     - name: sim
+//       command: tiller-sim      # looked up next to tiller-launch first, then on PATH
+//       args: [--config, config/sim/usv.yaml]
+//       env: {TILLER_X: "1"}
+//       group: sim
+//       depends_on: [esc]
+//       start_delay_s: 0.2
+//       restart: on-failure      # never | on-failure | always
+//       backoff_s: 0.5           # first restart delay, doubled each time up to backoff_max_s
+//       backoff_max_s: 10
+//       max_restarts: 5          # then the process is given up on
+//       critical: false          # true: giving up on it stops the whole run (exit 3)
+#pragma once
+
+#include <map>
+#include <string>
+#include <vector>
+
+namespace tiller::config {
+class Value;
+}
+
+namespace tiller::launch {
+
+enum class Restart { kNever, kOnFailure, kAlways };
+const char* to_string(Restart r);
+
+struct ProcessSpec {
+  std::string name;
+  std::string command;
+  std::vector<std::string> args;
+  std::map<std::string, std::string> env;
+  std::string group;
+  std::vector<std::string> depends_on;
+  double start_delay_s = 0.0;
+  Restart restart = Restart::kNever;
+  double backoff_s = 0.5;
+  double backoff_max_s = 10.0;
+  int max_restarts = 5;
+  double stable_after_s = 30.0;  // running this long resets the back-off and the restart count
+  bool critical = false;
+  int line = 0;  // line in the launch file (for messages)
+};
+
+struct LoggerSpec {
+  bool enabled = true;
+  std::string dir = "logs";     // relative to root
+  std::string channels = ".*";  // lcm-logger -c
+  double split_mb = 0.0;        // > 0: start a new file every N MB (name.00, name.01, ...)
+  int rotate = 0;               // > 0: keep N old files (lcm-logger --rotate)
+};
+
+struct LaunchFile {
+  std::string path;  // the file it came from
+  std::string name;
+  std::string description;
+  std::string lcm_url;
+  std::string root;  // absolute working directory of every process
+  double grace_s = 3.0;
+  std::string ends_with;  // process name, or empty
+  LoggerSpec logger;
+  std::vector<ProcessSpec> processes;  // in start order (dependencies first, then file order)
+};
+
+// Builds a LaunchFile from a parsed document (throws config::Error). `file_dir` resolves `root`.
+LaunchFile load_launch(const config::Value& root, const std::string& file_dir);
+LaunchFile load_launch_file(const std::string& path);
+
+// Replaces ${NAME} in s from vars (unknown names: from the environment; else an error naming it).
+std::string substitute(const std::string& s, const std::map<std::string, std::string>& vars);
+
+// Which processes to run: all when both lists are empty; else those in one of `groups` or
+// named in `names`. Unknown group or name: std::invalid_argument naming it.
+std::vector<std::size_t> select(const LaunchFile& lf, const std::vector<std::string>& groups,
+                                const std::vector<std::string>& names);
+
+}  // namespace tiller::launch

@@ -1,0 +1,56 @@
+// The real ProcessHost of tiller-launch: fork/exec on POSIX. Each child runs in its own process
+// group (signals reach its own children too, and a terminal's Ctrl-C reaches only the
+// launcher), dies with the launcher (PR_SET_PDEATHSIG = SIGKILL), has stdin from /dev/null, and
+// writes stdout and stderr into one pipe that the host prints line by line, each line
+// prefixed with the process name. Commands without a '/' are looked up in `search_dirs`, then
+// on PATH; ${NAME} in command, args and env values is replaced from `vars` or the environment.
+#pragma once
+
+#include <cstdio>
+#include <map>
+#include <string>
+#include <vector>
+
+#include "launch/supervisor.hpp"
+
+namespace tiller::launch {
+
+class PosixHost : public ProcessHost {
+ public:
+  PosixHost(std::string root_dir, std::map<std::string, std::string> vars,
+            std::vector<std::string> search_dirs, std::map<std::string, std::string> extra_env,
+            std::FILE* out, std::size_t name_width);
+  ~PosixHost() override;
+
+  int spawn(const ProcessSpec& p, std::string& error) override;
+  void signal(int pid, int sig) override;
+
+  // Resolves a command to an executable path ("" if none is found).
+  std::string resolve(const std::string& command) const;
+  // Substitutes vars in a process's command and args (throws std::invalid_argument).
+  std::vector<std::string> argv_of(const ProcessSpec& p) const;
+
+  // Output pipes still open, and what to do when one is readable.
+  std::vector<int> output_fds() const;
+  void on_readable(int fd);
+  // Prints a line from the launcher itself, prefixed like the processes' lines.
+  void print(const std::string& who, const std::string& line);
+
+ private:
+  struct Pipe {
+    std::string name;
+    std::string partial;
+  };
+  std::string root_;
+  std::map<std::string, std::string> vars_;
+  std::vector<std::string> search_dirs_;
+  std::map<std::string, std::string> extra_env_;
+  std::FILE* out_;
+  std::size_t width_;
+  std::map<int, Pipe> pipes_;
+};
+
+// Directory of the running executable (for finding sibling tiller-* programs).
+std::string self_dir();
+
+}  // namespace tiller::launch

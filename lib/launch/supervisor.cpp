@@ -1,0 +1,243 @@
+#include "launch/supervisor.hpp"
+
+#include <algorithm>
+#include <climits>
+#include <csignal>
+#include <cstring>
+#include <sstream>
+
+namespace tiller::launch {
+
+std::string ExitInfo::describe() const {
+  if (signal != 0) {
+    const char* n = sigabbrev_np(signal);
+    return std::string("killed by SIG") + (n ? n : std::to_string(signal).c_str());
+  }
+  return "exit " + std::to_string(code);
+}
+
+const char* to_string(State s) {
+  switch (s) {
+    case State::kPending:
+      return "pending";
+    case State::kRunning:
+      return "running";
+    case State::kBackoff:
+      return "restarting";
+    case State::kStopping:
+      return "stopping";
+    case State::kExited:
+      return "exited";
+    case State::kGaveUp:
+      return "gave-up";
+    case State::kNotStarted:
+      return "not-started";
+  }
+  return "?";
+}
+
+Supervisor::Supervisor(std::vector<ProcessSpec> procs, std::string ends_with, double grace_s,
+                       ProcessHost& host, Note note)
+    : ends_with_(std::move(ends_with)),
+      grace_us_(from_seconds(grace_s)),
+      host_(host),
+      note_(std::move(note)) {
+  for (auto& p : procs) {
+    ProcStatus s;
+    s.spec = std::move(p);
+    procs_.push_back(std::move(s));
+  }
+}
+
+void Supervisor::start(TimeUs now) {
+  started_ = true;
+  next_start_ = 0;
+  start_due_ = procs_.empty() ? now : now + from_seconds(procs_[0].spec.start_delay_s);
+  poll(now);
+  check_all_done(now);
+}
+
+void Supervisor::spawn(std::size_t i, TimeUs now) {
+  auto& p = procs_[i];
+  std::string error;
+  const int pid = host_.spawn(p.spec, error);
+  p.started_at = now;
+  if (pid <= 0) {
+    say(p.spec.name + ": cannot start: " + error);
+    p.pid = -1;
+    p.state = State::kRunning;  // so that handle_exit applies the policy
+    handle_exit(i, ExitInfo{127, 0}, now);
+    return;
+  }
+  p.pid = pid;
+  p.state = State::kRunning;
+}
+
+void Supervisor::poll(TimeUs now) {
+  if (!started_ || finished_) return;
+  if (!stopping_) {
+    while (next_start_ < procs_.size() && now >= start_due_) {
+      say("starting " + procs_[next_start_].spec.name);
+      spawn(next_start_, now);
+      ++next_start_;
+      if (stopping_) break;
+      if (next_start_ < procs_.size())
+        start_due_ = now + from_seconds(procs_[next_start_].spec.start_delay_s);
+    }
+    for (std::size_t i = 0; i < procs_.size() && !stopping_; ++i) {
+      auto& p = procs_[i];
+      if (p.state == State::kBackoff && now >= p.restart_at) {
+        say("restarting " + p.spec.name + " (restart " + std::to_string(p.restarts) + ")");
+        spawn(i, now);
+      }
+    }
+  }
+  if (stopping_) advance_stop(now);
+}
+
+void Supervisor::on_exit(int pid, ExitInfo e, TimeUs now) {
+  for (std::size_t i = 0; i < procs_.size(); ++i) {
+    if (procs_[i].pid == pid && pid > 0) {
+      handle_exit(i, e, now);
+      return;
+    }
+  }
+}
+
+void Supervisor::handle_exit(std::size_t i, ExitInfo e, TimeUs now) {
+  auto& p = procs_[i];
+  p.pid = -1;
+  p.has_exited = true;
+  p.last_exit = e;
+  if (stopping_) {
+    p.state = State::kExited;
+    say(p.spec.name + " stopped (" + e.describe() + (p.killed ? ", needed SIGKILL" : "") + ")");
+    advance_stop(now);
+    return;
+  }
+  say(p.spec.name + " exited (" + e.describe() + ")");
+  if (p.spec.name == ends_with_) {
+    p.state = State::kExited;
+    request_stop(now, "the run ended: " + p.spec.name + " " + e.describe(),
+                 e.failed() ? kExitRunFailed : kExitOk);
+    return;
+  }
+  if (now - p.started_at >= from_seconds(p.spec.stable_after_s)) p.streak = 0;
+  const bool again =
+      p.spec.restart == Restart::kAlways || (p.spec.restart == Restart::kOnFailure && e.failed());
+  if (!again) {
+    p.state = State::kExited;
+    if (e.failed() && p.spec.critical) {
+      request_stop(now, "critical process " + p.spec.name + " failed (" + e.describe() + ")",
+                   kExitCriticalFailed);
+      return;
+    }
+    check_all_done(now);
+    return;
+  }
+  if (p.streak >= p.spec.max_restarts) {
+    p.state = State::kGaveUp;
+    say(p.spec.name + ": giving up after " + std::to_string(p.streak) + " restarts");
+    if (p.spec.critical) {
+      request_stop(now, "critical process " + p.spec.name + " given up on", kExitCriticalFailed);
+      return;
+    }
+    check_all_done(now);
+    return;
+  }
+  double delay = p.spec.backoff_s;
+  for (int k = 0; k < p.streak && delay < p.spec.backoff_max_s; ++k) delay *= 2.0;
+  delay = std::min(delay, p.spec.backoff_max_s);
+  ++p.streak;
+  ++p.restarts;
+  p.state = State::kBackoff;
+  p.restart_at = now + from_seconds(delay);
+}
+
+void Supervisor::check_all_done(TimeUs now) {
+  if (stopping_ || next_start_ < procs_.size()) return;
+  bool any_failed = false;
+  for (const auto& p : procs_) {
+    if (p.state == State::kRunning || p.state == State::kBackoff || p.state == State::kPending)
+      return;
+    if (p.state == State::kGaveUp || (p.has_exited && p.last_exit.failed())) any_failed = true;
+  }
+  request_stop(now, "no process left running", any_failed ? kExitRunFailed : kExitOk);
+}
+
+void Supervisor::request_stop(TimeUs now, const std::string& reason, int status) {
+  if (stopping_ || finished_) return;
+  stopping_ = true;
+  reason_ = reason;
+  status_ = status;
+  say("stopping: " + reason);
+  for (auto& p : procs_) {
+    if (p.state == State::kPending) p.state = State::kNotStarted;
+  }
+  stop_index_ = static_cast<int>(std::min(next_start_, procs_.size())) - 1;
+  advance_stop(now);
+}
+
+void Supervisor::advance_stop(TimeUs now) {
+  while (stop_index_ >= 0) {
+    auto& p = procs_[static_cast<std::size_t>(stop_index_)];
+    if (p.state == State::kBackoff) p.state = State::kExited;
+    if (p.state == State::kRunning) {
+      host_.signal(p.pid, SIGTERM);
+      p.state = State::kStopping;
+      p.kill_at = now + grace_us_;
+      return;
+    }
+    if (p.state == State::kStopping) {
+      if (now >= p.kill_at) {
+        say(p.spec.name + ": still running after the grace period, SIGKILL");
+        host_.signal(p.pid, SIGKILL);
+        p.killed = true;
+        p.kill_at = now + grace_us_;
+      }
+      return;
+    }
+    --stop_index_;
+  }
+  finished_ = true;
+}
+
+TimeUs Supervisor::next_deadline() const {
+  TimeUs t = INT64_MAX;
+  if (!started_ || finished_) return t;
+  if (!stopping_) {
+    if (next_start_ < procs_.size()) t = std::min(t, start_due_);
+    for (const auto& p : procs_) {
+      if (p.state == State::kBackoff) t = std::min(t, p.restart_at);
+    }
+  } else {
+    for (const auto& p : procs_) {
+      if (p.state == State::kStopping) t = std::min(t, p.kill_at);
+    }
+  }
+  return t;
+}
+
+std::string Supervisor::status_table(TimeUs now) const {
+  std::size_t w = 4;
+  for (const auto& p : procs_) w = std::max(w, p.spec.name.size());
+  std::ostringstream os;
+  auto pad = [](std::string s, std::size_t n) {
+    if (s.size() < n) s.resize(n, ' ');
+    return s;
+  };
+  os << pad("name", w) << "  " << pad("group", 10) << "  " << pad("state", 11) << "  "
+     << pad("pid", 7) << "  " << pad("up_s", 7) << "  restarts  last exit\n";
+  for (const auto& p : procs_) {
+    const bool up = p.state == State::kRunning || p.state == State::kStopping;
+    char upbuf[32] = "-";
+    if (up) std::snprintf(upbuf, sizeof upbuf, "%.1f", to_seconds(now - p.started_at));
+    os << pad(p.spec.name, w) << "  " << pad(p.spec.group, 10) << "  "
+       << pad(to_string(p.state), 11) << "  " << pad(p.pid > 0 ? std::to_string(p.pid) : "-", 7)
+       << "  " << pad(upbuf, 7) << "  " << pad(std::to_string(p.restarts), 8) << "  "
+       << (p.has_exited ? p.last_exit.describe() : "-") << "\n";
+  }
+  return os.str();
+}
+
+}  // namespace tiller::launch

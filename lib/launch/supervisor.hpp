@@ -1,0 +1,107 @@
+// Process supervision logic of tiller-launch, without fork: a state machine told when
+// processes exit and what time it is, which asks a ProcessHost to start and signal them.
+// Starts processes in order (each after its start_delay_s), restarts per policy with
+// exponential back-off and a limit, ends the run when the `ends_with` process exits, when a
+// critical process is given up on, when nothing is left to run, or on request (Ctrl-C,
+// SIGTERM); then stops everything in reverse start order: SIGTERM, SIGKILL after the grace
+// period, one process at a time. Times in us (core/time.hpp).
+#pragma once
+
+#include <cstdint>
+#include <functional>
+#include <string>
+#include <vector>
+
+#include "core/time.hpp"
+#include "launch/launch_file.hpp"
+
+namespace tiller::launch {
+
+// Exit statuses of tiller-launch.
+inline constexpr int kExitOk = 0;              // run ended cleanly (or stopped on request)
+inline constexpr int kExitRunFailed = 1;       // the ends_with process, or a process, failed
+inline constexpr int kExitUsage = 2;           // bad launch file or command line
+inline constexpr int kExitCriticalFailed = 3;  // a critical process was given up on
+
+struct ExitInfo {
+  int code = 0;    // exit code when it exited
+  int signal = 0;  // signal that killed it, 0 if it exited
+  bool failed() const { return code != 0 || signal != 0; }
+  std::string describe() const;  // "exit 0", "exit 3", "killed by SIGKILL"
+};
+
+class ProcessHost {
+ public:
+  virtual ~ProcessHost() = default;
+  // Starts the process; returns its pid (> 0), or -1 and sets `error`.
+  virtual int spawn(const ProcessSpec& p, std::string& error) = 0;
+  // Sends `sig` to the process and its process group.
+  virtual void signal(int pid, int sig) = 0;
+};
+
+enum class State { kPending, kRunning, kBackoff, kStopping, kExited, kGaveUp, kNotStarted };
+const char* to_string(State s);
+
+struct ProcStatus {
+  ProcessSpec spec;
+  State state = State::kPending;
+  int pid = -1;
+  int restarts = 0;  // total restarts in this run
+  int streak = 0;    // restarts since it last ran stable_after_s
+  bool has_exited = false;
+  ExitInfo last_exit;
+  TimeUs started_at = 0;
+  TimeUs restart_at = 0;
+  TimeUs kill_at = 0;
+  bool killed = false;  // needed SIGKILL when stopping
+};
+
+class Supervisor {
+ public:
+  using Note = std::function<void(const std::string&)>;
+  Supervisor(std::vector<ProcessSpec> procs, std::string ends_with, double grace_s,
+             ProcessHost& host, Note note = {});
+
+  void start(TimeUs now);
+  // A child exited (unknown pids are ignored).
+  void on_exit(int pid, ExitInfo e, TimeUs now);
+  // Begins the orderly stop (idempotent; the first reason and status win).
+  void request_stop(TimeUs now, const std::string& reason, int status = kExitOk);
+  // Runs what is due at `now`: starts, restarts, SIGKILL escalation.
+  void poll(TimeUs now);
+
+  bool stopping() const { return stopping_; }
+  bool finished() const { return finished_; }
+  int exit_status() const { return status_; }
+  const std::string& stop_reason() const { return reason_; }
+  // Earliest time poll() has something to do (INT64_MAX: nothing scheduled).
+  TimeUs next_deadline() const;
+  const std::vector<ProcStatus>& processes() const { return procs_; }
+  // A table: name, group, state, pid, restarts, last exit.
+  std::string status_table(TimeUs now) const;
+
+ private:
+  void spawn(std::size_t i, TimeUs now);
+  void handle_exit(std::size_t i, ExitInfo e, TimeUs now);
+  void advance_stop(TimeUs now);
+  void check_all_done(TimeUs now);
+  void say(const std::string& s) {
+    if (note_) note_(s);
+  }
+
+  std::vector<ProcStatus> procs_;
+  std::string ends_with_;
+  TimeUs grace_us_;
+  ProcessHost& host_;
+  Note note_;
+  std::size_t next_start_ = 0;
+  TimeUs start_due_ = 0;
+  bool started_ = false;
+  bool stopping_ = false;
+  bool finished_ = false;
+  int stop_index_ = -1;  // process being stopped (reverse order)
+  int status_ = kExitOk;
+  std::string reason_;
+};
+
+}  // namespace tiller::launch
