@@ -1,0 +1,420 @@
+// tiller-launch: the launch-file loader refuses bad files with the line and key; the
+// supervision state machine (fake host, no fork) restarts per policy with back-off and a
+// limit and stops in reverse order with SIGTERM then SIGKILL; the real launcher (fork/exec
+// of small shell processes) restarts a killed process, stops everything on SIGTERM with no
+// orphan, and takes its children down when it is SIGKILLed itself.
+#include <gtest/gtest.h>
+#include <signal.h>
+#include <sys/wait.h>
+#include <unistd.h>
+
+#include <chrono>
+#include <csignal>
+#include <filesystem>
+#include <fstream>
+#include <sstream>
+#include <thread>
+
+#include "core/config.hpp"
+#include "launch/launch_file.hpp"
+#include "launch/supervisor.hpp"
+
+namespace tiller::launch {
+namespace {
+
+namespace fs = std::filesystem;
+
+LaunchFile parse(const std::string& text) {
+  return load_launch(config::Value::parse(text, "bad.yaml"), "/tmp");
+}
+
+std::string error_of(const std::string& text) {
+  try {
+    parse(text);
+  } catch (const config::Error& e) {
+    return e.what();
+  }
+  return "(accepted)";
+}
+
+const char* kGood = R"(name: good
+root: .
+processes:
+  - name: sim
+    command: tiller-sim
+  - name: mixer
+    command: tiller-mixer
+    depends_on: [esc]
+    restart: on-failure
+  - name: esc
+    command: tiller-esc
+    group: hw
+)";
+
+TEST(LaunchFile, LoadsAndOrdersByDependency) {
+  const LaunchFile lf = parse(kGood);
+  ASSERT_EQ(lf.processes.size(), 3u);
+  EXPECT_EQ(lf.processes[0].name, "sim");
+  EXPECT_EQ(lf.processes[1].name, "esc");  // before mixer, which depends on it
+  EXPECT_EQ(lf.processes[2].name, "mixer");
+  EXPECT_EQ(lf.processes[2].restart, Restart::kOnFailure);
+  EXPECT_EQ(lf.processes[2].line, 6);
+  EXPECT_EQ(select(lf, {"hw"}, {}), (std::vector<std::size_t>{1}));
+  EXPECT_EQ(select(lf, {"hw"}, {"sim"}), (std::vector<std::size_t>{0, 1}));
+  EXPECT_THROW(select(lf, {"nope"}, {}), std::invalid_argument);
+}
+
+TEST(LaunchFile, BadFilesAreRefusedWithLineAndKey) {
+  EXPECT_EQ(
+      error_of(
+          "name: x\nroot: .\nprocesses:\n  - name: a\n    command: b\n    restart: sometimes\n"),
+      "bad.yaml:6: processes[0].restart: expected one of: never, on-failure, always, got "
+      "'sometimes'");
+  EXPECT_NE(
+      error_of("name: x\nroot: .\nprocesses:\n  - name: a\n    command: b\n    restrat: always\n")
+          .find("bad.yaml:6: processes[0].restrat"),
+      std::string::npos);
+  EXPECT_NE(
+      error_of("name: x\nroot: .\nprocesses:\n  - name: a\n    command: b\n    depends_on: [c]\n")
+          .find("bad.yaml:6: processes[0].depends_on[0]: expected the name of another process"),
+      std::string::npos);
+  EXPECT_NE(error_of("name: x\nroot: .\nprocesses:\n  - name: a\n    command: b\n  - name: a\n    "
+                     "command: c\n")
+                .find("bad.yaml:6: processes[1].name: expected a name not used by another process"),
+            std::string::npos);
+  const std::string cycle = error_of(
+      "name: x\nroot: .\nprocesses:\n  - name: a\n    command: b\n    depends_on: [c]\n"
+      "  - name: c\n    command: d\n    depends_on: [a]\n");
+  EXPECT_NE(cycle.find("depends_on: expected dependencies without a cycle"), std::string::npos)
+      << cycle;
+  EXPECT_NE(error_of("name: x\nroot: .\nprocesses: []\n")
+                .find("bad.yaml:3: processes: expected a non-empty"),
+            std::string::npos);
+  EXPECT_NE(error_of("name: x\nroot: .\nlcm_url: udpm://239.255.76.67:7667?ttl=1\nprocesses:\n  - "
+                     "{name: a, command: b}\n")
+                .find("bad.yaml:3: lcm_url: expected a udpm:// URL with ttl=0"),
+            std::string::npos);
+  EXPECT_NE(error_of("name: x\nroot: .\nends_with: zz\nprocesses:\n  - {name: a, command: b}\n")
+                .find("bad.yaml:3: ends_with"),
+            std::string::npos);
+  EXPECT_NE(error_of("name: x\nroot: .\nprocesses:\n  - {name: a, command: b, backoff_s: -1}\n")
+                .find("bad.yaml:4: processes[0].backoff_s"),
+            std::string::npos);
+}
+
+TEST(LaunchFile, Substitution) {
+  EXPECT_EQ(substitute("--lcm-url=${LCM_URL}", {{"LCM_URL", "udpm://x"}}), "--lcm-url=udpm://x");
+  EXPECT_THROW(substitute("${TILLER_NO_SUCH_VARIABLE_42}", {}), std::invalid_argument);
+}
+
+// ---------------------------------------------------------------- supervisor, fake host
+struct FakeHost : ProcessHost {
+  int next_pid = 100;
+  std::vector<std::string> spawned;          // names in spawn order
+  std::vector<std::pair<int, int>> signals;  // (pid, sig)
+  std::map<int, std::string> name_of;
+  bool fail_spawn = false;
+  int spawn(const ProcessSpec& p, std::string& error) override {
+    if (fail_spawn) {
+      error = "no such program";
+      return -1;
+    }
+    spawned.push_back(p.name);
+    name_of[next_pid] = p.name;
+    return next_pid++;
+  }
+  void signal(int pid, int sig) override { signals.emplace_back(pid, sig); }
+};
+
+ProcessSpec proc(const std::string& name, Restart r = Restart::kNever, int max_restarts = 5) {
+  ProcessSpec p;
+  p.name = name;
+  p.command = name;
+  p.restart = r;
+  p.backoff_s = 0.5;
+  p.backoff_max_s = 1.5;
+  p.max_restarts = max_restarts;
+  return p;
+}
+
+int pid_of(const Supervisor& s, const std::string& name) {
+  for (const auto& p : s.processes())
+    if (p.spec.name == name) return p.pid;
+  return -1;
+}
+
+TEST(Supervisor, RestartsOnFailureWithBackoffThenGivesUp) {
+  FakeHost h;
+  Supervisor s({proc("a"), proc("b", Restart::kOnFailure, 3)}, "", 2.0, h);
+  s.start(0);
+  ASSERT_EQ(h.spawned, (std::vector<std::string>{"a", "b"}));
+  // Exits: back-off 0.5 s, 1.0 s, 1.5 s (doubling, capped), then given up.
+  const TimeUs expected_delay[] = {500'000, 1'000'000, 1'500'000};
+  TimeUs t = 1'000'000;
+  for (int k = 0; k < 3; ++k) {
+    s.on_exit(pid_of(s, "b"), ExitInfo{1, 0}, t);
+    EXPECT_EQ(s.processes()[1].state, State::kBackoff);
+    EXPECT_EQ(s.next_deadline(), t + expected_delay[k]);
+    s.poll(t + expected_delay[k] - 1);
+    EXPECT_EQ(h.spawned.size(), 2u + k);  // not yet
+    s.poll(t + expected_delay[k]);
+    EXPECT_EQ(h.spawned.size(), 3u + k);
+    EXPECT_EQ(s.processes()[1].restarts, k + 1);
+    t += expected_delay[k] + 100'000;
+  }
+  s.on_exit(pid_of(s, "b"), ExitInfo{0, SIGSEGV}, t);
+  EXPECT_EQ(s.processes()[1].state, State::kGaveUp);
+  EXPECT_FALSE(s.stopping());  // a is still running; b was not critical
+  // on-failure does not restart a clean exit; never does not restart at all.
+  s.on_exit(pid_of(s, "a"), ExitInfo{0, 0}, t);
+  EXPECT_TRUE(s.finished());
+  EXPECT_EQ(s.exit_status(), kExitRunFailed);  // b failed for good
+}
+
+TEST(Supervisor, AlwaysRestartsACleanExitAndStableRunResetsTheStreak) {
+  FakeHost h;
+  auto p = proc("a", Restart::kAlways, 1);
+  p.stable_after_s = 10;
+  Supervisor s({p}, "", 2.0, h);
+  s.start(0);
+  s.on_exit(pid_of(s, "a"), ExitInfo{0, 0}, 1'000'000);
+  s.poll(1'500'000);
+  EXPECT_EQ(h.spawned.size(), 2u);
+  // Ran 20 s (> stable_after_s): the limit of 1 starts again.
+  s.on_exit(pid_of(s, "a"), ExitInfo{0, 0}, 21'500'000);
+  EXPECT_EQ(s.processes()[0].state, State::kBackoff);
+  s.poll(22'000'000);
+  EXPECT_EQ(h.spawned.size(), 3u);
+  // Quick exit again: the streak is used up.
+  s.on_exit(pid_of(s, "a"), ExitInfo{0, 0}, 22'100'000);
+  EXPECT_EQ(s.processes()[0].state, State::kGaveUp);
+  EXPECT_EQ(s.processes()[0].restarts, 2);
+}
+
+TEST(Supervisor, EndsWithProcessStopsAllInReverseOrderSigtermThenSigkill) {
+  FakeHost h;
+  Supervisor s({proc("logger"), proc("sim"), proc("mixer"), proc("mission")}, "mission", 2.0, h);
+  s.start(0);
+  const int sim = pid_of(s, "sim"), mixer = pid_of(s, "mixer"), logger = pid_of(s, "logger");
+  s.on_exit(pid_of(s, "mission"), ExitInfo{0, 0}, 5'000'000);
+  ASSERT_TRUE(s.stopping());
+  ASSERT_EQ(h.signals.size(), 1u);
+  EXPECT_EQ(h.signals[0], std::make_pair(mixer, SIGTERM));  // last started first, one at a time
+  s.on_exit(mixer, ExitInfo{0, SIGTERM}, 5'100'000);
+  EXPECT_EQ(h.signals.back(), std::make_pair(sim, SIGTERM));
+  s.poll(7'099'999);
+  EXPECT_EQ(h.signals.size(), 2u);
+  s.poll(7'100'000);  // grace over: SIGKILL
+  EXPECT_EQ(h.signals.back(), std::make_pair(sim, SIGKILL));
+  s.on_exit(sim, ExitInfo{0, SIGKILL}, 7'200'000);
+  EXPECT_TRUE(s.processes()[1].killed);
+  EXPECT_EQ(h.signals.back(), std::make_pair(logger, SIGTERM));
+  EXPECT_FALSE(s.finished());
+  s.on_exit(logger, ExitInfo{0, 0}, 7'300'000);
+  EXPECT_TRUE(s.finished());
+  EXPECT_EQ(s.exit_status(), kExitOk);
+}
+
+TEST(Supervisor, FailedEndsWithProcessGivesExitOneAndCriticalGivesThree) {
+  {
+    FakeHost h;
+    Supervisor s({proc("a"), proc("mission")}, "mission", 1.0, h);
+    s.start(0);
+    s.on_exit(pid_of(s, "mission"), ExitInfo{4, 0}, 10);
+    s.on_exit(pid_of(s, "a"), ExitInfo{0, SIGTERM}, 20);
+    EXPECT_TRUE(s.finished());
+    EXPECT_EQ(s.exit_status(), kExitRunFailed);
+  }
+  {
+    FakeHost h;
+    auto c = proc("esc", Restart::kOnFailure, 0);
+    c.critical = true;
+    Supervisor s({proc("a"), c}, "", 1.0, h);
+    s.start(0);
+    s.on_exit(pid_of(s, "esc"), ExitInfo{1, 0}, 10);
+    EXPECT_TRUE(s.stopping());
+    s.on_exit(pid_of(s, "a"), ExitInfo{0, SIGTERM}, 20);
+    EXPECT_EQ(s.exit_status(), kExitCriticalFailed);
+  }
+}
+
+TEST(Supervisor, StartDelaysAndStopBeforeEverythingStarted) {
+  FakeHost h;
+  auto b = proc("b");
+  b.start_delay_s = 1.0;
+  Supervisor s({proc("a"), b}, "", 1.0, h);
+  s.start(0);
+  EXPECT_EQ(h.spawned.size(), 1u);
+  EXPECT_EQ(s.next_deadline(), 1'000'000);
+  s.request_stop(500'000, "SIGINT");
+  EXPECT_EQ(s.processes()[1].state, State::kNotStarted);
+  s.on_exit(pid_of(s, "a"), ExitInfo{0, SIGTERM}, 600'000);
+  EXPECT_TRUE(s.finished());
+  EXPECT_EQ(h.spawned.size(), 1u);
+}
+
+TEST(Supervisor, ProgramThatCannotStartFollowsItsPolicy) {
+  FakeHost h;
+  h.fail_spawn = true;
+  Supervisor s({proc("a", Restart::kOnFailure, 1)}, "", 1.0, h);
+  s.start(0);
+  EXPECT_EQ(s.processes()[0].state, State::kBackoff);
+  s.poll(500'000);
+  EXPECT_EQ(s.processes()[0].state, State::kGaveUp);
+  EXPECT_TRUE(s.finished());
+  EXPECT_EQ(s.exit_status(), kExitRunFailed);
+}
+
+// ---------------------------------------------------------------- the real launcher
+bool alive(int pid) {
+  return ::kill(pid, 0) == 0;
+}
+
+int read_pid(const fs::path& f) {
+  std::ifstream in(f);
+  int pid = -1;
+  in >> pid;
+  return pid;
+}
+
+template <class F>
+bool wait_for(F cond, double seconds = 10) {
+  const auto end = std::chrono::steady_clock::now() + std::chrono::duration<double>(seconds);
+  while (std::chrono::steady_clock::now() < end) {
+    if (cond()) return true;
+    std::this_thread::sleep_for(std::chrono::milliseconds(20));
+  }
+  return cond();
+}
+
+struct Launcher {
+  pid_t pid = -1;
+  fs::path dir;
+  explicit Launcher(const std::string& yaml) {
+    dir = fs::temp_directory_path() /
+          ("tiller-launch-test-" + std::to_string(::getpid()) + "-" + std::to_string(counter()++));
+    fs::remove_all(dir);
+    fs::create_directories(dir);
+    std::ofstream(dir / "run.yaml") << yaml;
+    pid = ::fork();
+    if (pid == 0) {
+      const std::string out = (dir / "out.txt").string();
+      std::freopen(out.c_str(), "w", stdout);
+      const std::string bin = std::string(TILLER_BIN_DIR) + "/tiller-launch";
+      const std::string file = (dir / "run.yaml").string();
+      const std::string status = "--status-file=" + (dir / "status").string();
+      ::execl(bin.c_str(), bin.c_str(), file.c_str(), status.c_str(), static_cast<char*>(nullptr));
+      ::_exit(127);
+    }
+  }
+  static int& counter() {
+    static int c = 0;
+    return c;
+  }
+  int wait_exit() {
+    int st = 0;
+    ::waitpid(pid, &st, 0);
+    pid = -1;
+    return WIFEXITED(st) ? WEXITSTATUS(st) : 128 + WTERMSIG(st);
+  }
+  std::string output() const {
+    std::ifstream in(dir / "out.txt");
+    std::stringstream ss;
+    ss << in.rdbuf();
+    return ss.str();
+  }
+  ~Launcher() {
+    if (pid > 0) {
+      ::kill(pid, SIGKILL);
+      ::waitpid(pid, nullptr, 0);
+    }
+    fs::remove_all(dir);
+  }
+};
+
+// A process that writes its pid (and its background child's pid) and sleeps.
+std::string sleeper(const std::string& name, const std::string& extra = "") {
+  return "  - name: " + name + "\n    command: sh\n    args: [-c, 'sleep 300 & echo $! > " + name +
+         ".child; echo $$ > " + name + ".pid; echo up; wait']\n" + extra;
+}
+
+TEST(LaunchProcess, KilledProcessIsRestartedPerPolicy) {
+  Launcher l("name: t\nroot: .\ngrace_s: 1\nlogger: {enabled: false}\nprocesses:\n" +
+             sleeper("keep", "    restart: on-failure\n    backoff_s: 0.1\n") + sleeper("once"));
+  ASSERT_TRUE(
+      wait_for([&] { return fs::exists(l.dir / "keep.pid") && fs::exists(l.dir / "once.pid"); }));
+  ASSERT_TRUE(wait_for(
+      [&] { return read_pid(l.dir / "keep.pid") > 0 && read_pid(l.dir / "once.pid") > 0; }));
+  const int keep1 = read_pid(l.dir / "keep.pid");
+  const int once1 = read_pid(l.dir / "once.pid");
+  fs::remove(l.dir / "keep.pid");
+  ASSERT_EQ(::kill(keep1, SIGKILL), 0);
+  ASSERT_EQ(::kill(once1, SIGKILL), 0);
+  ASSERT_TRUE(
+      wait_for([&] { return fs::exists(l.dir / "keep.pid") && read_pid(l.dir / "keep.pid") > 0; }));
+  const int keep2 = read_pid(l.dir / "keep.pid");
+  EXPECT_NE(keep2, keep1);
+  EXPECT_TRUE(alive(keep2));
+  ::kill(l.pid, SIGTERM);
+  EXPECT_EQ(l.wait_exit(), kExitOk);
+  const std::string out = l.output();
+  EXPECT_NE(out.find("keep   | up"), std::string::npos) << out;
+  EXPECT_NE(out.find("once exited (killed by SIGKILL)"), std::string::npos) << out;
+  EXPECT_NE(out.find("restarting keep (restart 1)"), std::string::npos) << out;
+  EXPECT_EQ(out.find("restarting once"), std::string::npos) << out;  // policy never
+  EXPECT_FALSE(alive(keep2));
+}
+
+TEST(LaunchProcess, SigtermStopsEverythingWithNoOrphan) {
+  Launcher l("name: t\nroot: .\ngrace_s: 0.5\nlogger: {enabled: false}\nprocesses:\n" +
+             sleeper("a") + sleeper("b") +
+             "  - name: deaf\n    command: sh\n    args: [-c, \"trap '' TERM; echo $$ > deaf.pid; "
+             "while :; do sleep 0.05; done\"]\n");
+  std::vector<int> pids;
+  ASSERT_TRUE(wait_for([&] {
+    for (const char* f : {"a.pid", "a.child", "b.pid", "b.child", "deaf.pid"})
+      if (read_pid(l.dir / f) <= 0) return false;
+    return true;
+  }));
+  for (const char* f : {"a.pid", "a.child", "b.pid", "b.child", "deaf.pid"})
+    pids.push_back(read_pid(l.dir / f));
+  for (int p : pids) EXPECT_TRUE(alive(p)) << p;
+  ::kill(l.pid, SIGTERM);
+  EXPECT_EQ(l.wait_exit(), kExitOk);
+  // Children were reaped by the launcher (or, for grandchildren, killed with their group).
+  for (int p : pids) EXPECT_TRUE(wait_for([&] { return !alive(p); }, 3)) << "orphan " << p;
+  const std::string out = l.output();
+  EXPECT_NE(out.find("deaf: still running after the grace period, SIGKILL"), std::string::npos)
+      << out;
+  // Reverse order: deaf (started last) first, a last.
+  EXPECT_LT(out.find("deaf stopped"), out.find("b stopped"));
+  EXPECT_LT(out.find("b stopped"), out.find("a stopped"));
+  EXPECT_NE(out.find("stopping: SIGTERM"), std::string::npos);
+}
+
+TEST(LaunchProcess, ChildrenDieWithAKilledLauncher) {
+  Launcher l("name: t\nroot: .\nlogger: {enabled: false}\nprocesses:\n" + sleeper("a"));
+  ASSERT_TRUE(wait_for([&] { return read_pid(l.dir / "a.pid") > 0; }));
+  const int a = read_pid(l.dir / "a.pid");
+  ::kill(l.pid, SIGKILL);
+  l.wait_exit();
+  EXPECT_TRUE(wait_for([&] { return !alive(a); }, 3));  // PR_SET_PDEATHSIG
+}
+
+TEST(LaunchProcess, EndsWithGivesTheRunsExitStatusAndBadFileGivesTwo) {
+  {
+    Launcher l("name: t\nroot: .\nends_with: m\nlogger: {enabled: false}\nprocesses:\n" +
+               sleeper("a") + "  - {name: m, command: sh, args: [-c, 'sleep 0.3; exit 5']}\n");
+    EXPECT_EQ(l.wait_exit(), kExitRunFailed);
+    EXPECT_NE(l.output().find("the run ended: m exit 5"), std::string::npos) << l.output();
+  }
+  {
+    Launcher l(
+        "name: t\nroot: .\nlogger: {enabled: false}\nprocesses:\n  - {name: m, command: "
+        "no-such-program-xyz}\n");
+    EXPECT_EQ(l.wait_exit(), kExitUsage);
+  }
+}
+
+}  // namespace
+}  // namespace tiller::launch
