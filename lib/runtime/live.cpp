@@ -34,12 +34,14 @@ std::string with_default_ttl(const std::string& url) {
 class LiveExecutor::LcmBus : public Bus {
  public:
   explicit LcmBus(lcm::LCM& l) : lcm_(l) {}
-  void publish(const std::string& channel, const std::uint8_t* data, int size) override {
-    lcm_.publish(channel, data, static_cast<unsigned>(size));
+  void publish(std::string_view channel, const std::uint8_t* data, int size) override {
+    channel_.assign(channel);  // reused: no allocation once long enough
+    lcm_.publish(channel_, data, static_cast<unsigned>(size));
   }
 
  private:
   lcm::LCM& lcm_;
+  std::string channel_;
 };
 
 LiveExecutor::LiveExecutor(const std::string& url) {

@@ -9,7 +9,7 @@ namespace tiller {
 class LockstepExecutor::QueueBus : public Bus {
  public:
   explicit QueueBus(LockstepExecutor& ex) : ex_(ex) {}
-  void publish(const std::string& channel, const std::uint8_t* data, int size) override {
+  void publish(std::string_view channel, const std::uint8_t* data, int size) override {
     ex_.enqueue(channel, data, size);
   }
 
@@ -37,7 +37,7 @@ void LockstepExecutor::inject(Event e) {
   injected_.emplace(t, std::move(e));
 }
 
-void LockstepExecutor::enqueue(const std::string& channel, const std::uint8_t* data, int size) {
+void LockstepExecutor::enqueue(std::string_view channel, const std::uint8_t* data, int size) {
   if (n_pending_ == pending_.size()) pending_.emplace_back();
   Slot& s = pending_[n_pending_++];
   s.channel.assign(channel);

@@ -51,7 +51,7 @@ class LockstepExecutor {
     std::vector<std::uint8_t> data;
   };
   class QueueBus;
-  void enqueue(const std::string& channel, const std::uint8_t* data, int size);
+  void enqueue(std::string_view channel, const std::uint8_t* data, int size);
   void deliver_pending();
 
   TimeUs now_;

@@ -72,7 +72,7 @@ void Node::set_health(std::int8_t state, const std::string& status) {
   if (heartbeat_.status != status) heartbeat_.status = status;
 }
 
-void Node::publish_bytes(const std::string& channel, const std::uint8_t* data, int size) {
+void Node::publish_bytes(std::string_view channel, const std::uint8_t* data, int size) {
   ++published_;
   if (bus_) bus_->publish(channel, data, size);
 }

@@ -17,6 +17,7 @@
 #include <map>
 #include <memory>
 #include <string>
+#include <string_view>
 #include <unordered_map>
 #include <vector>
 
@@ -30,7 +31,7 @@ namespace tiller {
 class Bus {
  public:
   virtual ~Bus() = default;
-  virtual void publish(const std::string& channel, const std::uint8_t* data, int size) = 0;
+  virtual void publish(std::string_view channel, const std::uint8_t* data, int size) = 0;
 };
 
 class Node {
@@ -73,9 +74,9 @@ class Node {
   template <class Msg, class Derived>
   void subscribe(const std::string& channel, void (Derived::*handler)(const Msg&, TimeUs));
 
-  // Encodes and publishes a message (the encode buffer is reused).
+  // Encodes and publishes a message (the encode buffer is reused; no allocation).
   template <class Msg>
-  void publish(const std::string& channel, const Msg& msg);
+  void publish(std::string_view channel, const Msg& msg);
 
   // A named counter, created on first use (do it in the constructor); the reference stays valid.
   std::int64_t& counter(const std::string& name);
@@ -109,7 +110,7 @@ class Node {
     }
   };
 
-  void publish_bytes(const std::string& channel, const std::uint8_t* data, int size);
+  void publish_bytes(std::string_view channel, const std::uint8_t* data, int size);
   void publish_heartbeat(TimeUs now);
 
   std::string name_;
@@ -134,7 +135,7 @@ void Node::subscribe(const std::string& channel, void (Derived::*handler)(const 
 }
 
 template <class Msg>
-void Node::publish(const std::string& channel, const Msg& msg) {
+void Node::publish(std::string_view channel, const Msg& msg) {
   const int n = msg.getEncodedSize();
   if (static_cast<int>(encode_buf_.size()) < n) encode_buf_.resize(static_cast<std::size_t>(n));
   if (msg.encode(encode_buf_.data(), 0, n) != n) return;

@@ -5,8 +5,9 @@ namespace tiller {
 class ReplayExecutor::CollectBus : public Bus {
  public:
   explicit CollectBus(ReplayExecutor& ex) : ex_(ex) {}
-  void publish(const std::string& channel, const std::uint8_t* data, int size) override {
-    ex_.outputs_.push_back(Event{channel, ex_.now_, std::vector<std::uint8_t>(data, data + size)});
+  void publish(std::string_view channel, const std::uint8_t* data, int size) override {
+    ex_.outputs_.push_back(
+        Event{std::string(channel), ex_.now_, std::vector<std::uint8_t>(data, data + size)});
   }
 
  private:
