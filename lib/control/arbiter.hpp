@@ -1,0 +1,54 @@
+// The controller choice of seed 004 (choose_pid_node), in one place. Hosted by
+// tiller-velocity-pid, published on TILLER_ARBITRATION; the mixer follows it.
+//
+// Rules (mode from TILLER_MODE, progress from TILLER_PATH_PROGRESS):
+//   MANUAL_OPEN_LOOP   -> SOURCE_MANUAL_DEMAND (teleop's demand straight to the mixer)
+//   MANUAL_CLOSED_LOOP -> SOURCE_VELOCITY_PID  (the velocity PID tracks TILLER_MANUAL_VELOCITY)
+//   WAYPOINTING        -> SOURCE_VELOCITY_PID while the path is not complete or the vehicle is
+//                         farther than station_radius (m) from the goal; SOURCE_STATION_KEEP
+//                         once it is complete and within station_radius. Back to the velocity
+//                         PID only beyond station_radius + hysteresis (no chatter at the edge).
+//                         No fresh progress (no path, follower gone) -> SOURCE_NONE (neutral).
+// Before any TILLER_MODE arrives, default_mode applies. A mode stays in force until changed.
+// Pure logic: decide() takes the inputs and the time and returns the decision.
+#pragma once
+
+#include <cstdint>
+#include <string>
+
+namespace tiller::control {
+
+struct ArbiterParams {
+  std::int8_t default_mode = 0;  // controller_mode_t constant
+  double station_radius = 2.0;   // m: switch to station keeping within this of the goal
+  double hysteresis = 0.5;       // m: leave station keeping beyond radius + this
+};
+
+struct ArbiterInput {
+  std::int8_t mode = 0;         // controller_mode_t constant in force
+  bool progress_fresh = false;  // TILLER_PATH_PROGRESS fresh
+  bool path_active = false;     // the follower has a path
+  bool complete = false;
+  double distance_to_goal = 0;  // m
+};
+
+struct ArbiterDecision {
+  std::int8_t mode = 0;
+  std::int8_t source = 0;   // wrench_t SOURCE_* constant
+  const char* reason = "";  // static string
+  bool changed = false;     // differs from the previous decision
+};
+
+class Arbiter {
+ public:
+  explicit Arbiter(const ArbiterParams& p = {}) : p_(p) {}
+  ArbiterDecision decide(const ArbiterInput& in);
+  std::int8_t source() const { return last_source_; }
+  const ArbiterParams& params() const { return p_; }
+
+ private:
+  ArbiterParams p_;
+  std::int8_t last_source_ = -1;
+};
+
+}  // namespace tiller::control

@@ -1,0 +1,144 @@
+#include "control/station_keep_node.hpp"
+
+#include <tiller/pid_terms_t.hpp>
+
+#include <cmath>
+
+#include "core/checks.hpp"
+#include "runtime/channels.hpp"
+
+namespace tiller::control {
+
+namespace {
+constexpr int kAxis[3] = {0, 1, 5};
+}
+
+StationKeepNode::StationKeepNode(const StationKeepNodeParams& p)
+    : Node("station-keep", from_hz(p.common.rate_hz)),
+      p_(p),
+      pid_(p.pid),
+      odom_fresh_(from_seconds(p.common.odometry_timeout_s)),
+      target_fresh_(from_seconds(p.common.input_timeout_s)),
+      arb_fresh_(from_seconds(p.common.input_timeout_s)),
+      alloc_fresh_(from_seconds(p.common.allocation_timeout_s)) {
+  subscribe(channels::kOdometry, &StationKeepNode::on_odometry);
+  subscribe(channels::kStationTarget, &StationKeepNode::on_target);
+  subscribe(channels::kArbitration, &StationKeepNode::on_arbitration);
+  subscribe(channels::kAllocationStatus, &StationKeepNode::on_allocation);
+  nan_odometry_ = &counter("rejected.odometry.nan");
+  bad_target_ = &counter("rejected.target.invalid");
+}
+
+void StationKeepNode::on_odometry(const odometry_t& m, TimeUs now) {
+  if (!all_finite(m.position) || !all_finite(m.orientation) || !all_finite(m.velocity)) {
+    reject(*nan_odometry_);
+    return;
+  }
+  odom_ = m;
+  odom_fresh_.mark(now);
+}
+
+void StationKeepNode::on_target(const station_target_t& m, TimeUs now) {
+  if (m.active && (!all_in_range(m.position, -1e6, 1e6) || !std::isfinite(m.heading))) {
+    reject(*bad_target_);
+    return;
+  }
+  if (!m.active) hold_heading_valid_ = false;
+  target_ = m;
+  target_fresh_.mark(now);
+}
+
+void StationKeepNode::on_arbitration(const arbitration_t& m, TimeUs now) {
+  arb_ = m;
+  arb_fresh_.mark(now);
+}
+
+void StationKeepNode::on_allocation(const allocation_status_t& m, TimeUs now) {
+  alloc_ = m;
+  alloc_fresh_.mark(now);
+}
+
+void StationKeepNode::publish_wrench(TimeUs now, bool valid, double x, double y, double n) {
+  wrench_t w{};
+  w.utime = now;
+  w.source = wrench_t::SOURCE_STATION_KEEP;
+  w.valid = valid;
+  w.tau[0] = x;
+  w.tau[1] = y;
+  w.tau[5] = n;
+  publish(channels::kWrenchStation, w);
+  last_wrench_ = w;
+}
+
+void StationKeepNode::on_tick(TimeUs now) {
+  active_ = arb_fresh_.fresh(now) && arb_.active_source == wrench_t::SOURCE_STATION_KEEP;
+  if (!active_) pid_.reset();
+
+  const bool odom_ok = odom_fresh_.fresh(now);
+  if (odom_fresh_.stale_events() > seen_stale_) {
+    count_stale(odom_fresh_.stale_events() - seen_stale_);
+    seen_stale_ = odom_fresh_.stale_events();
+  }
+  if (!odom_ok) {
+    const bool hold =
+        p_.common.on_stale == StaleAction::kHold && odom_fresh_.ever() &&
+        now - odom_fresh_.last() <= odom_fresh_.limit() + from_seconds(p_.common.hold_s);
+    if (hold) {
+      publish_wrench(now, last_wrench_.valid, last_wrench_.tau[0], last_wrench_.tau[1],
+                     last_wrench_.tau[5]);
+      set_health(heartbeat_t::STATE_DEGRADED, "odometry stale: holding the last wrench");
+    } else {
+      publish_wrench(now, true, 0, 0, 0);
+      set_health(heartbeat_t::STATE_DEGRADED, "odometry stale: neutral");
+    }
+    last_odom_utime_ = -1;
+    return;
+  }
+
+  const bool have_target = target_fresh_.fresh(now) && target_.active;
+  const double heading = wrap_pi(odom_.orientation[2]);
+  if (have_target && !target_.heading_valid && (!hold_heading_valid_ || !active_)) {
+    // Keep the heading the vehicle has when it arrives (re-captured until we take control).
+    hold_heading_ = heading;
+    hold_heading_valid_ = true;
+  }
+  StationPidInput in;
+  in.target_n = target_.position[0];
+  in.target_e = target_.position[1];
+  in.target_heading = target_.heading_valid ? target_.heading : hold_heading_;
+  in.n = odom_.position[0];
+  in.e = odom_.position[1];
+  in.heading = heading;
+  in.u = odom_.velocity[0];
+  in.v = odom_.velocity[1];
+  in.r = odom_.velocity[5];
+  in.dt = (last_odom_utime_ < 0 || !active_) ? 0.0 : to_seconds(odom_.utime - last_odom_utime_);
+  last_odom_utime_ = odom_.utime;
+  const bool alloc_ok = alloc_fresh_.fresh(now) && alloc_.source == wrench_t::SOURCE_STATION_KEEP;
+  for (int k = 0; k < 3; ++k) {
+    in.freeze[static_cast<std::size_t>(k)] =
+        alloc_ok && (alloc_.axis_reduced[kAxis[k]] || alloc_.axis_unactuated[kAxis[k]]);
+  }
+  terms_ = have_target ? pid_.step(in) : PidTerms{};
+  publish_wrench(now, have_target, terms_.out[0], terms_.out[1], terms_.out[2]);
+
+  pid_terms_t t{};
+  t.utime = now;
+  t.controller = "station";
+  for (int k = 0; k < 3; ++k) {
+    t.setpoint[k] = terms_.setpoint[k];
+    t.measured[k] = terms_.measured[k];
+    t.p[k] = terms_.p[k];
+    t.i[k] = terms_.i[k];
+    t.d[k] = terms_.d[k];
+    t.feed_forward[k] = terms_.ff[k];
+    t.output[k] = terms_.out[k];
+    t.integrator_frozen[k] = terms_.frozen[k];
+  }
+  publish(channels::kPidStation, t);
+  set_health(heartbeat_t::STATE_OK, !have_target ? "idle: no target"
+                                    : active_    ? "station keeping"
+                                                 : "standing by (not the active source)");
+}
+
+}  // namespace tiller::control

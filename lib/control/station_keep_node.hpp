@@ -1,0 +1,57 @@
+// tiller-station-keep's logic: the last-meter station-keeping PID as a node.
+//
+// Subscribes TILLER_ODOMETRY, TILLER_STATION_TARGET, TILLER_ARBITRATION and
+// TILLER_ALLOCATION_STATUS. Every tick (rate_hz) it publishes TILLER_WRENCH_STATION (body FRD
+// [X Y 0 0 0 N], N and N m; invalid while there is no fresh active target) and its terms on
+// TILLER_PID_STATION. It integrates only while the arbitration makes it the active source
+// (integrator restarts from zero on entry). A target without a heading holds the heading the
+// vehicle has when the target first becomes active. Odometry stale: neutral, or the last wrench
+// for hold_s, per config.
+#pragma once
+
+#include <tiller/allocation_status_t.hpp>
+#include <tiller/arbitration_t.hpp>
+#include <tiller/odometry_t.hpp>
+#include <tiller/station_target_t.hpp>
+#include <tiller/wrench_t.hpp>
+
+#include "control/control_config.hpp"
+#include "control/station_pid.hpp"
+#include "runtime/node.hpp"
+
+namespace tiller::control {
+
+class StationKeepNode : public Node {
+ public:
+  explicit StationKeepNode(const StationKeepNodeParams& p);
+
+  void on_odometry(const odometry_t& m, TimeUs now);
+  void on_target(const station_target_t& m, TimeUs now);
+  void on_arbitration(const arbitration_t& m, TimeUs now);
+  void on_allocation(const allocation_status_t& m, TimeUs now);
+  void on_tick(TimeUs now) override;
+
+  const PidTerms& terms() const { return terms_; }
+  bool active() const { return active_; }
+
+ private:
+  void publish_wrench(TimeUs now, bool valid, double x, double y, double n);
+
+  StationKeepNodeParams p_;
+  StationPid pid_;
+  PidTerms terms_;
+  odometry_t odom_{};
+  station_target_t target_{};
+  arbitration_t arb_{};
+  allocation_status_t alloc_{};
+  Freshness odom_fresh_, target_fresh_, arb_fresh_, alloc_fresh_;
+  std::int64_t seen_stale_ = 0;
+  bool active_ = false;
+  bool hold_heading_valid_ = false;
+  double hold_heading_ = 0;
+  TimeUs last_odom_utime_ = -1;
+  wrench_t last_wrench_{};
+  std::int64_t *nan_odometry_, *bad_target_;
+};
+
+}  // namespace tiller::control

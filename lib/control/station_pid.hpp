@@ -1,0 +1,65 @@
+// The last-meter station-keeping PID of seed 004 (basic_pid_node).
+//
+// Position error e = target - position (world NED, m) rotated into the body frame FRD:
+//   e_x = cos(psi) e_n + sin(psi) e_e,  e_y = -sin(psi) e_n + cos(psi) e_e;
+// heading error e_psi = wrap(target - psi) rad. Per axis x, y, yaw:
+//   output = kp * e + I - kd * (measured body velocity u, v, r)
+// The derivative acts on the measurement (the vehicle's own velocity), so a target that jumps
+// gives no derivative kick, and the output is smooth and finite at zero error: no minimum
+// force, no division by the distance. The integral is kept as a world-frame force (so it
+// stays pointed at a steady current while the vehicle turns), integrates ki * e dt per body
+// axis, is bounded per axis by i_limit, and is frozen while the mixer reduced that axis.
+//
+// Weathervane mode (boats with no sway authority, e.g. the Otter): the demanded world-frame
+// force F = R(psi) [x y] is produced by turning the bow along F (or the stern, within
+// reverse_radius) and pushing with surge only; with |F| below weathervane_min_force the target
+// heading is held. Outputs X, Y in N and N in N m, clamped to max_output.
+#pragma once
+
+#include <array>
+
+#include "control/velocity_pid.hpp"
+
+namespace tiller::control {
+
+struct StationAxisGains {
+  double kp = 0;            // N per m (N m per rad)
+  double ki = 0;            // N per (m s)
+  double kd = 0;            // N per (m/s)
+  double i_limit = 0;       // N
+  double max_output = 1e5;  // N
+};
+
+struct StationPidParams {
+  StationAxisGains x, y, yaw;
+  double max_dt = 0.5;               // s: longer gaps do not integrate
+  bool weathervane = false;          // no sway authority: point the bow along the force
+  double weathervane_min_force = 5;  // N: below this, hold the target heading
+  double reverse_radius = 1.0;       // m: within this, push astern rather than turn around
+};
+
+struct StationPidInput {
+  double target_n = 0, target_e = 0, target_heading = 0;  // m, m, rad NED
+  double n = 0, e = 0, heading = 0;                       // m, m, rad NED
+  double u = 0, v = 0, r = 0;                             // body velocity m/s, rad/s
+  double dt = 0;                                          // s
+  std::array<bool, 3> freeze{false, false, false};        // mixer reduced [X Y N]
+};
+
+class StationPid {
+ public:
+  explicit StationPid(const StationPidParams& p = {}) : p_(p) {}
+  PidTerms step(const StationPidInput& in);
+  void reset() {
+    i_world_ = {0, 0};
+    i_yaw_ = 0;
+  }
+  const StationPidParams& params() const { return p_; }
+
+ private:
+  StationPidParams p_;
+  std::array<double, 2> i_world_{0, 0};  // N, north/east
+  double i_yaw_ = 0;                     // N m
+};
+
+}  // namespace tiller::control

@@ -1,0 +1,218 @@
+#include "control/velocity_pid_node.hpp"
+
+#include <tiller/arbitration_t.hpp>
+#include <tiller/pid_terms_t.hpp>
+
+#include <cmath>
+
+#include "core/checks.hpp"
+#include "runtime/channels.hpp"
+
+namespace tiller::control {
+
+namespace {
+constexpr int kAxis[3] = {0, 1, 5};  // [X Y N] in tau / allocation_status_t arrays
+}
+
+VelocityPidNode::VelocityPidNode(const VelocityPidNodeParams& p)
+    : Node("velocity-pid", from_hz(p.common.rate_hz)),
+      p_(p),
+      pid_(p.pid),
+      arbiter_(p.arbiter),
+      odom_fresh_(from_seconds(p.common.odometry_timeout_s)),
+      setpoint_fresh_(from_seconds(p.common.input_timeout_s)),
+      manual_fresh_(from_seconds(p.common.input_timeout_s)),
+      progress_fresh_(from_seconds(p.common.input_timeout_s)),
+      alloc_fresh_(from_seconds(p.common.allocation_timeout_s)),
+      mode_(p.arbiter.default_mode) {
+  subscribe(channels::kOdometry, &VelocityPidNode::on_odometry);
+  subscribe(channels::kVelocitySetpoint, &VelocityPidNode::on_setpoint);
+  subscribe(channels::kManualVelocity, &VelocityPidNode::on_manual);
+  subscribe(channels::kMode, &VelocityPidNode::on_mode);
+  subscribe(channels::kPathProgress, &VelocityPidNode::on_progress);
+  subscribe(channels::kAllocationStatus, &VelocityPidNode::on_allocation);
+  nan_odometry_ = &counter("rejected.odometry.nan");
+  bad_setpoint_ = &counter("rejected.setpoint.invalid");
+  bad_manual_ = &counter("rejected.manual.invalid");
+  bad_progress_ = &counter("rejected.progress.invalid");
+  bad_mode_ = &counter("rejected.mode.invalid");
+}
+
+void VelocityPidNode::on_odometry(const odometry_t& m, TimeUs now) {
+  if (!all_finite(m.position) || !all_finite(m.orientation) || !all_finite(m.velocity)) {
+    reject(*nan_odometry_);
+    return;
+  }
+  odom_ = m;
+  odom_fresh_.mark(now);
+}
+
+void VelocityPidNode::on_setpoint(const velocity_setpoint_t& m, TimeUs now) {
+  if (!all_in_range(m.velocity, -10, 10) || !std::isfinite(m.target_heading) ||
+      (m.frame != velocity_setpoint_t::FRAME_NED && m.frame != velocity_setpoint_t::FRAME_BODY)) {
+    reject(*bad_setpoint_);
+    return;
+  }
+  setpoint_ = m;
+  setpoint_fresh_.mark(now);
+}
+
+void VelocityPidNode::on_manual(const manual_velocity_cmd_t& m, TimeUs now) {
+  if (!all_in_range(m.velocity, -10, 10) || !in_range(m.yaw_rate, -5, 5) ||
+      !std::isfinite(m.heading) || !in_range(m.yaw_torque, -1e4, 1e4) || m.yaw_mode < 0 ||
+      m.yaw_mode > 2) {
+    reject(*bad_manual_);
+    return;
+  }
+  manual_ = m;
+  manual_fresh_.mark(now);
+}
+
+void VelocityPidNode::on_mode(const controller_mode_t& m, TimeUs) {
+  if (m.mode < controller_mode_t::MANUAL_OPEN_LOOP || m.mode > controller_mode_t::WAYPOINTING) {
+    reject(*bad_mode_);
+    return;
+  }
+  mode_ = m.mode;
+  is_translation_ = m.is_translation;
+}
+
+void VelocityPidNode::on_progress(const path_progress_t& m, TimeUs now) {
+  if (!std::isfinite(m.distance_to_goal) || m.distance_to_goal < 0) {
+    reject(*bad_progress_);
+    return;
+  }
+  progress_ = m;
+  progress_fresh_.mark(now);
+}
+
+void VelocityPidNode::on_allocation(const allocation_status_t& m, TimeUs now) {
+  alloc_ = m;
+  alloc_fresh_.mark(now);
+}
+
+void VelocityPidNode::publish_wrench(TimeUs now, bool valid, double x, double y, double n) {
+  wrench_t w{};
+  w.utime = now;
+  w.source = wrench_t::SOURCE_VELOCITY_PID;
+  w.valid = valid;
+  w.tau[0] = x;
+  w.tau[1] = y;
+  w.tau[5] = n;
+  publish(channels::kWrenchVelocity, w);
+  last_wrench_ = w;
+}
+
+void VelocityPidNode::on_tick(TimeUs now) {
+  // 1. The arbitration.
+  ArbiterInput ai;
+  ai.mode = mode_;
+  ai.progress_fresh = progress_fresh_.fresh(now);
+  ai.path_active = progress_.path_id >= 0 && progress_.segment >= 0;
+  ai.complete = progress_.complete;
+  ai.distance_to_goal = progress_.distance_to_goal;
+  decision_ = arbiter_.decide(ai);
+  arbitration_t arb{};
+  arb.utime = now;
+  arb.mode = decision_.mode;
+  arb.active_source = decision_.source;
+  arb.is_translation = is_translation_;
+  arb.reason = decision_.reason;
+  publish(channels::kArbitration, arb);
+
+  const bool active = decision_.source == wrench_t::SOURCE_VELOCITY_PID;
+  if (!active) pid_.reset();  // restart from zero on entry
+
+  // 2. The wrench.
+  const bool odom_ok = odom_fresh_.fresh(now);
+  if (odom_fresh_.stale_events() > seen_stale_) {
+    count_stale(odom_fresh_.stale_events() - seen_stale_);
+    seen_stale_ = odom_fresh_.stale_events();
+  }
+  if (!odom_ok) {
+    const bool hold =
+        p_.common.on_stale == StaleAction::kHold && odom_fresh_.ever() &&
+        now - odom_fresh_.last() <= odom_fresh_.limit() + from_seconds(p_.common.hold_s);
+    if (hold) {
+      publish_wrench(now, last_wrench_.valid, last_wrench_.tau[0], last_wrench_.tau[1],
+                     last_wrench_.tau[5]);
+      set_health(heartbeat_t::STATE_DEGRADED, "odometry stale: holding the last wrench");
+    } else {
+      publish_wrench(now, true, 0, 0, 0);
+      set_health(heartbeat_t::STATE_DEGRADED, "odometry stale: neutral");
+    }
+    last_odom_utime_ = -1;
+    return;
+  }
+
+  VelocityPidInput in;
+  in.u = odom_.velocity[0];
+  in.v = odom_.velocity[1];
+  in.r = odom_.velocity[5];
+  in.heading = wrap_pi(odom_.orientation[2]);
+  in.dt = last_odom_utime_ < 0 ? 0.0 : to_seconds(odom_.utime - last_odom_utime_);
+  last_odom_utime_ = odom_.utime;
+  bool have_command = false;
+  if (decision_.mode == controller_mode_t::MANUAL_CLOSED_LOOP) {
+    have_command = true;  // stale or invalid manual command: hold still
+    if (manual_fresh_.fresh(now) && manual_.valid) {
+      in.u_sp = manual_.velocity[0];
+      in.v_sp = manual_.velocity[1];
+      switch (manual_.yaw_mode) {
+        case manual_velocity_cmd_t::YAW_HEADING:
+          in.yaw_mode = YawMode::kHeading;
+          in.yaw_value = manual_.heading;
+          break;
+        case manual_velocity_cmd_t::YAW_TORQUE:
+          in.yaw_mode = YawMode::kTorque;
+          in.yaw_value = manual_.yaw_torque;
+          break;
+        default:
+          in.yaw_mode = YawMode::kRate;
+          in.yaw_value = manual_.yaw_rate;
+      }
+    } else {
+      in.yaw_mode = YawMode::kRate;
+      in.yaw_value = 0;
+    }
+  } else if (setpoint_fresh_.fresh(now) && setpoint_.active) {
+    have_command = true;
+    double vx = setpoint_.velocity[0], vy = setpoint_.velocity[1];
+    if (setpoint_.frame == velocity_setpoint_t::FRAME_NED) {
+      const double c = std::cos(in.heading), s = std::sin(in.heading);
+      in.u_sp = c * vx + s * vy;
+      in.v_sp = -s * vx + c * vy;
+    } else {
+      in.u_sp = vx;
+      in.v_sp = vy;
+    }
+    in.yaw_mode = setpoint_.heading_valid ? YawMode::kHeading : YawMode::kRate;
+    in.yaw_value = setpoint_.heading_valid ? setpoint_.target_heading : 0.0;
+  }
+  if (!active) in.dt = 0;  // integrate only while in control
+  const bool alloc_ok = alloc_fresh_.fresh(now) && alloc_.source == wrench_t::SOURCE_VELOCITY_PID;
+  for (int k = 0; k < 3; ++k) {
+    in.freeze[static_cast<std::size_t>(k)] =
+        alloc_ok && (alloc_.axis_reduced[kAxis[k]] || alloc_.axis_unactuated[kAxis[k]]);
+  }
+  terms_ = have_command ? pid_.step(in) : PidTerms{};
+  publish_wrench(now, have_command, terms_.out[0], terms_.out[1], terms_.out[2]);
+
+  pid_terms_t t{};
+  t.utime = now;
+  t.controller = "velocity";
+  for (int k = 0; k < 3; ++k) {
+    t.setpoint[k] = terms_.setpoint[k];
+    t.measured[k] = terms_.measured[k];
+    t.p[k] = terms_.p[k];
+    t.i[k] = terms_.i[k];
+    t.d[k] = terms_.d[k];
+    t.feed_forward[k] = terms_.ff[k];
+    t.output[k] = terms_.out[k];
+    t.integrator_frozen[k] = terms_.frozen[k];
+  }
+  publish(channels::kPidVelocity, t);
+  set_health(heartbeat_t::STATE_OK, decision_.reason);
+}
+
+}  // namespace tiller::control

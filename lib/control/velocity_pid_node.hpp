@@ -1,0 +1,65 @@
+// tiller-velocity-pid's logic: the arbiter (seed 004's choose_pid) and the velocity PID.
+//
+// Subscribes TILLER_ODOMETRY, TILLER_VELOCITY_SETPOINT (waypointing), TILLER_MANUAL_VELOCITY
+// (manual closed loop), TILLER_MODE, TILLER_PATH_PROGRESS and TILLER_ALLOCATION_STATUS. Every
+// tick (rate_hz) it decides the wrench source and publishes TILLER_ARBITRATION, then publishes
+// TILLER_WRENCH_VELOCITY (body FRD [X Y 0 0 0 N], N and N m) and its terms on
+// TILLER_PID_VELOCITY. The PID integrates only while it is the active source (its integrator
+// restarts from zero on entry), with dt from the odometry times, frozen while the mixer
+// reports the axis reduced. No fresh setpoint: wrench invalid (the mixer treats it as absent).
+// Odometry stale: neutral, or the last wrench for hold_s, per config.
+#pragma once
+
+#include <tiller/allocation_status_t.hpp>
+#include <tiller/controller_mode_t.hpp>
+#include <tiller/manual_velocity_cmd_t.hpp>
+#include <tiller/odometry_t.hpp>
+#include <tiller/path_progress_t.hpp>
+#include <tiller/velocity_setpoint_t.hpp>
+#include <tiller/wrench_t.hpp>
+
+#include "control/arbiter.hpp"
+#include "control/control_config.hpp"
+#include "control/velocity_pid.hpp"
+#include "runtime/node.hpp"
+
+namespace tiller::control {
+
+class VelocityPidNode : public Node {
+ public:
+  explicit VelocityPidNode(const VelocityPidNodeParams& p);
+
+  void on_odometry(const odometry_t& m, TimeUs now);
+  void on_setpoint(const velocity_setpoint_t& m, TimeUs now);
+  void on_manual(const manual_velocity_cmd_t& m, TimeUs now);
+  void on_mode(const controller_mode_t& m, TimeUs now);
+  void on_progress(const path_progress_t& m, TimeUs now);
+  void on_allocation(const allocation_status_t& m, TimeUs now);
+  void on_tick(TimeUs now) override;
+
+  const ArbiterDecision& decision() const { return decision_; }
+  const PidTerms& terms() const { return terms_; }
+
+ private:
+  void publish_wrench(TimeUs now, bool valid, double x, double y, double n);
+
+  VelocityPidNodeParams p_;
+  VelocityPid pid_;
+  Arbiter arbiter_;
+  ArbiterDecision decision_;
+  PidTerms terms_;
+  odometry_t odom_{};
+  velocity_setpoint_t setpoint_{};
+  manual_velocity_cmd_t manual_{};
+  path_progress_t progress_{};
+  allocation_status_t alloc_{};
+  Freshness odom_fresh_, setpoint_fresh_, manual_fresh_, progress_fresh_, alloc_fresh_;
+  std::int64_t seen_stale_ = 0;
+  std::int8_t mode_;
+  bool is_translation_ = false;
+  TimeUs last_odom_utime_ = -1;
+  wrench_t last_wrench_{};
+  std::int64_t *nan_odometry_, *bad_setpoint_, *bad_manual_, *bad_progress_, *bad_mode_;
+};
+
+}  // namespace tiller::control

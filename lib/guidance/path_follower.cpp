@@ -1,0 +1,204 @@
+#include "guidance/path_follower.hpp"
+
+#include <algorithm>
+#include <cmath>
+
+namespace tiller::guidance {
+
+PathFollower::PathFollower(const FollowerParams& p) : p_(p) {}
+
+void PathFollower::clear() {
+  pts_.clear();
+  tail_length_.clear();
+  min_dist_.clear();
+  seg_ = 0;
+  complete_ = false;
+  skipped_ = 0;
+  integral_.setZero();
+}
+
+bool PathFollower::set_path(const std::vector<Waypoint>& points, const Vec2& vehicle,
+                            double heading, bool is_translation) {
+  clear();
+  is_translation_ = is_translation;
+  for (const auto& w : points) {
+    if (!w.position.allFinite()) continue;
+    if (!pts_.empty() && (w.position - pts_.back().position).norm() < p_.min_segment_length) {
+      // A repeated point (zero-length segment): keep one, with the later heading if given.
+      if (w.has_heading) {
+        pts_.back().has_heading = true;
+        pts_.back().heading = wrap_pi(w.heading);
+      }
+      continue;
+    }
+    Waypoint c = w;
+    c.heading = wrap_pi(c.heading);
+    pts_.push_back(c);
+  }
+  if (pts_.empty()) return false;
+  if (pts_.size() == 1 && vehicle.allFinite() &&
+      (pts_[0].position - vehicle).norm() >= p_.min_segment_length) {
+    Waypoint start;
+    start.position = vehicle;
+    pts_.insert(pts_.begin(), start);
+  }
+  const auto n = pts_.size();
+  tail_length_.assign(n, 0.0);
+  for (std::size_t k = n - 1; k-- > 0;) {
+    tail_length_[k] = tail_length_[k + 1] + (pts_[k + 1].position - pts_[k].position).norm();
+  }
+  min_dist_.assign(n, 1e300);
+  goal_heading_valid_ = pts_.back().has_heading;
+  goal_heading_ = pts_.back().heading;
+  if (!goal_heading_valid_ && is_translation && std::isfinite(heading)) {
+    goal_heading_valid_ = true;
+    goal_heading_ = wrap_pi(heading);
+  }
+  if (std::isfinite(heading)) {
+    last_heading_ = wrap_pi(heading);
+    last_heading_valid_ = true;
+  }
+  if (n == 1) complete_ = true;  // already there
+  return true;
+}
+
+void PathFollower::set_translation(bool is_translation, double heading) {
+  if (is_translation == is_translation_) return;
+  is_translation_ = is_translation;
+  if (pts_.empty() || pts_.back().has_heading) return;
+  goal_heading_valid_ = is_translation && std::isfinite(heading);
+  goal_heading_ = goal_heading_valid_ ? wrap_pi(heading) : 0.0;
+}
+
+double PathFollower::end_speed(double remaining) const {
+  remaining = std::max(0.0, remaining);
+  if (p_.end_slowdown == EndSlowdown::kLinear) {
+    if (remaining >= p_.end_slowdown_distance) return p_.max_speed;
+    return std::min(p_.max_speed, remaining / p_.end_divisor_s);
+  }
+  return std::min(p_.max_speed, std::sqrt(2.0 * p_.braking_decel * remaining));
+}
+
+double PathFollower::turn_factor(double angle) const {
+  return std::clamp(1.0 - p_.turn_reduction * std::abs(angle) / kPi, p_.turn_min_fraction, 1.0);
+}
+
+FollowerOutput PathFollower::update(const Vec2& pos, double heading, double dt) {
+  FollowerOutput out;
+  if (pts_.empty() || !pos.allFinite() || !std::isfinite(heading)) return out;
+  out.active = true;
+  const int n = static_cast<int>(pts_.size());
+  for (int k = seg_; k < n; ++k) {
+    min_dist_[static_cast<std::size_t>(k)] =
+        std::min(min_dist_[static_cast<std::size_t>(k)],
+                 (pts_[static_cast<std::size_t>(k)].position - pos).norm());
+  }
+
+  // Segment selection: the seed's behind / middle / in-front test, skipping passed points.
+  SegmentRelation rel = SegmentRelation::kMiddle;
+  while (!complete_) {
+    if (seg_ + 1 >= n) {
+      complete_ = true;
+      break;
+    }
+    const Vec2& p1 = pts_[static_cast<std::size_t>(seg_)].position;
+    const Vec2& p2 = pts_[static_cast<std::size_t>(seg_ + 1)].position;
+    const Vec2 s = p2 - p1;
+    const double a = s.dot(pos - p1);
+    const double b = s.dot(pos - p2);
+    rel = a < 0 ? SegmentRelation::kBehind
+                : (b > 0 ? SegmentRelation::kInFront : SegmentRelation::kMiddle);
+    const double d2 = (pos - p2).norm();
+    const bool last = seg_ + 1 == n - 1;
+    const bool reached = d2 < p_.acceptance_radius;
+    const bool cut = !last && d2 < p_.corner_cut_radius;
+    if (reached || cut || rel == SegmentRelation::kInFront) {
+      if (min_dist_[static_cast<std::size_t>(seg_ + 1)] >= p_.acceptance_radius && !cut) {
+        ++skipped_;
+      }
+      ++seg_;
+      if (last) complete_ = true;
+      continue;
+    }
+    break;
+  }
+
+  const Vec2 goal = pts_.back().position;
+  out.distance_to_goal = (goal - pos).norm();
+  out.skipped = skipped_;
+  out.relation = rel;
+  Vec2 v(0, 0);
+  if (complete_) {
+    // Path done: head for the goal with the end slow-down (station keeping takes over near it).
+    out.segment = n - 1;
+    out.complete = true;
+    out.remaining_path = out.distance_to_goal;
+    if (out.distance_to_goal > 1e-9) {
+      v = (goal - pos) / out.distance_to_goal * end_speed(out.distance_to_goal);
+    }
+    out.along_speed = v.norm();
+  } else {
+    const Vec2& p1 = pts_[static_cast<std::size_t>(seg_)].position;
+    const Vec2& p2 = pts_[static_cast<std::size_t>(seg_ + 1)].position;
+    const double len = (p2 - p1).norm();
+    const Vec2 t = (p2 - p1) / len;
+    const double along = t.dot(pos - p1);
+    const Vec2 foot = p1 + t * along;
+    const Vec2 to_path = foot - pos;
+    const double e = to_path.norm();
+    out.segment = seg_;
+    out.cross_track = -(pos - p1).x() * t.y() + (pos - p1).y() * t.x();
+    out.along_track_remaining = len - along;
+    out.remaining_path =
+        std::max(0.0, len - along) + tail_length_[static_cast<std::size_t>(seg_ + 1)];
+
+    // Toward the path.
+    out.approach_speed = std::min(p_.approach_max_speed, e / p_.approach_divisor_s);
+    Vec2 v_perp = e > 1e-9 ? Vec2(to_path / e * out.approach_speed) : Vec2(0, 0);
+    if (p_.law == CrossTrackLaw::kIntegral && dt > 0 && e < p_.integral_zone) {
+      integral_ += p_.integral_gain * to_path * dt;
+      const double m = integral_.norm();
+      if (m > p_.integral_limit) integral_ *= p_.integral_limit / m;
+    }
+    if (p_.law == CrossTrackLaw::kIntegral) v_perp += integral_;
+    out.integral_correction = integral_;
+
+    // Along the path.
+    double along_speed = p_.max_speed * std::max(0.0, 1.0 - e / p_.parallel_cutoff_distance);
+    if (seg_ + 2 < n && (p2 - pos).norm() < p_.turn_slowdown_distance) {
+      const Vec2 t2 = (pts_[static_cast<std::size_t>(seg_ + 2)].position - p2).normalized();
+      const double angle = std::acos(std::clamp(t.dot(t2), -1.0, 1.0));
+      out.turn_factor = turn_factor(angle);
+      along_speed = std::min(along_speed, p_.max_speed * out.turn_factor);
+    }
+    along_speed = std::min(along_speed, end_speed(out.remaining_path));
+    out.along_speed = along_speed;
+    v = t * along_speed + v_perp;
+  }
+
+  // Heading: along the desired velocity, or the goal heading near the goal / when translating.
+  const double speed = v.norm();
+  const bool near_goal = out.distance_to_goal < p_.goal_heading_distance;
+  bool along_velocity = false;
+  if (is_translation_ || (near_goal && goal_heading_valid_)) {
+    if (goal_heading_valid_) {
+      last_heading_ = goal_heading_;
+      last_heading_valid_ = true;
+    }
+  } else if (speed > 1e-3) {
+    last_heading_ = std::atan2(v.y(), v.x());
+    last_heading_valid_ = true;
+    along_velocity = true;
+  }
+  out.target_heading = last_heading_;
+  out.heading_valid = last_heading_valid_;
+  if (along_velocity) {
+    const double err = std::abs(angle_diff(last_heading_, heading));
+    out.heading_factor = std::max(0.0, 1.0 - err / p_.heading_slowdown_angle);
+    v *= out.heading_factor;
+  }
+  out.velocity = v;
+  return out;
+}
+
+}  // namespace tiller::guidance

@@ -1,0 +1,140 @@
+#include "guidance/path_follower_node.hpp"
+
+#include <tiller/path_progress_t.hpp>
+#include <tiller/station_target_t.hpp>
+#include <tiller/velocity_setpoint_t.hpp>
+
+#include "core/checks.hpp"
+#include "runtime/channels.hpp"
+
+namespace tiller::guidance {
+
+PathFollowerNode::PathFollowerNode(const FollowerNodeParams& p)
+    : Node("path-follower", from_hz(p.rate_hz)),
+      p_(p),
+      follower_(p.follower),
+      odom_fresh_(from_seconds(p.odometry_timeout_s)) {
+  subscribe(channels::kPath, &PathFollowerNode::on_path);
+  subscribe(channels::kOdometry, &PathFollowerNode::on_odometry);
+  subscribe(channels::kMode, &PathFollowerNode::on_mode);
+  nan_odometry_ = &counter("rejected.odometry.nan");
+  invalid_path_ = &counter("rejected.path.invalid");
+  paths_started_ = &counter("paths.started");
+  pending_points_.reserve(64);
+  set_health(heartbeat_t::STATE_OK, "idle: no path");
+}
+
+void PathFollowerNode::on_path(const path_t& m, TimeUs) {
+  if (m.n_waypoints < 0 || m.n_waypoints > 10000 ||
+      static_cast<int>(m.waypoints.size()) != m.n_waypoints) {
+    reject(*invalid_path_);
+    return;
+  }
+  for (const auto& w : m.waypoints) {
+    if (!all_in_range(w.position, -1e6, 1e6) || (w.has_heading && !std::isfinite(w.heading))) {
+      reject(*invalid_path_);
+      return;
+    }
+  }
+  if (m.n_waypoints == 0) {  // cancel
+    follower_.clear();
+    pending_ = false;
+    path_id_ = m.path_id;
+    return;
+  }
+  if (m.path_id == path_id_ && (follower_.has_path() || pending_)) return;  // repeat
+  path_id_ = m.path_id;
+  pending_points_.clear();
+  for (const auto& w : m.waypoints) {
+    Waypoint p;
+    p.position = Vec2(w.position[0], w.position[1]);
+    p.has_heading = w.has_heading;
+    p.heading = w.has_heading ? w.heading : 0.0;
+    pending_points_.push_back(p);
+  }
+  pending_ = true;
+  if (odom_fresh_.ever()) start_pending_path();
+}
+
+void PathFollowerNode::start_pending_path() {
+  pending_ = false;
+  if (follower_.set_path(pending_points_, pos_, heading_, is_translation_)) ++*paths_started_;
+  last_update_odom_time_ = -1;
+}
+
+void PathFollowerNode::on_odometry(const odometry_t& m, TimeUs now) {
+  if (!all_finite(m.position) || !all_finite(m.orientation) || !all_finite(m.velocity)) {
+    reject(*nan_odometry_);
+    return;
+  }
+  pos_ = Vec2(m.position[0], m.position[1]);
+  heading_ = wrap_pi(m.orientation[2]);
+  odom_time_ = m.utime;
+  odom_fresh_.mark(now);
+  if (pending_) start_pending_path();
+}
+
+void PathFollowerNode::on_mode(const controller_mode_t& m, TimeUs) {
+  is_translation_ = m.is_translation;
+  follower_.set_translation(is_translation_, heading_);
+}
+
+void PathFollowerNode::on_tick(TimeUs now) {
+  const bool fresh = odom_fresh_.fresh(now);
+  if (odom_fresh_.stale_events() > seen_stale_) {
+    count_stale(odom_fresh_.stale_events() - seen_stale_);
+    seen_stale_ = odom_fresh_.stale_events();
+  }
+  out_ = FollowerOutput{};
+  if (fresh && follower_.has_path()) {
+    const double dt = last_update_odom_time_ < 0
+                          ? 0.0
+                          : std::max(0.0, to_seconds(odom_time_ - last_update_odom_time_));
+    last_update_odom_time_ = odom_time_;
+    out_ = follower_.update(pos_, heading_, dt);
+  }
+
+  velocity_setpoint_t sp{};
+  sp.utime = now;
+  sp.frame = velocity_setpoint_t::FRAME_NED;
+  sp.active = out_.active;
+  sp.velocity[0] = out_.velocity.x();
+  sp.velocity[1] = out_.velocity.y();
+  sp.heading_valid = out_.heading_valid;
+  sp.target_heading = out_.target_heading;
+  publish(channels::kVelocitySetpoint, sp);
+
+  path_progress_t pr{};
+  pr.utime = now;
+  pr.path_id = follower_.has_path() ? path_id_ : -1;
+  pr.segment = out_.active ? out_.segment : -1;
+  pr.n_waypoints = static_cast<std::int32_t>(follower_.points().size());
+  pr.cross_track_error = out_.cross_track;
+  pr.along_track_error = out_.along_track_remaining;
+  pr.distance_to_goal = out_.distance_to_goal;
+  pr.complete = out_.complete;
+  pr.skipped_waypoints = out_.skipped;
+  publish(channels::kPathProgress, pr);
+
+  station_target_t st{};
+  st.utime = now;
+  st.active = out_.active && out_.complete;
+  if (st.active) {
+    const auto& g = follower_.points().back();
+    st.position[0] = g.position.x();
+    st.position[1] = g.position.y();
+    st.heading_valid = follower_.goal_heading_valid();
+    st.heading = follower_.goal_heading();
+  }
+  publish(channels::kStationTarget, st);
+
+  if (!fresh && follower_.has_path()) {
+    set_health(heartbeat_t::STATE_DEGRADED, "odometry stale: setpoint inactive");
+  } else if (!follower_.has_path()) {
+    set_health(heartbeat_t::STATE_OK, pending_ ? "path waiting for odometry" : "idle: no path");
+  } else {
+    set_health(heartbeat_t::STATE_OK, out_.complete ? "path complete" : "following");
+  }
+}
+
+}  // namespace tiller::guidance

@@ -1,0 +1,56 @@
+// tiller-path-follower's logic: the seed-004 command-velocity generator as a node.
+//
+// Subscribes TILLER_PATH (path_t: a new path_id restarts the follower, 0 points cancels),
+// TILLER_ODOMETRY (pose NED, heading) and TILLER_MODE (is_translation). At rate_hz it publishes
+//   TILLER_VELOCITY_SETPOINT  velocity [north east 0] m/s (FRAME_NED) and target heading rad;
+//                             inactive when there is no path or the odometry is stale;
+//   TILLER_PATH_PROGRESS      segment, cross-track / along-track m, distance to goal m, complete;
+//   TILLER_STATION_TARGET     the last point (and its heading) once the path is complete.
+// Bad input: a path with NaN, out-of-range or too many points is dropped whole and counted
+// (rejected.path.invalid); odometry with NaN is dropped and counted (rejected.odometry.nan).
+#pragma once
+
+#include <tiller/controller_mode_t.hpp>
+#include <tiller/odometry_t.hpp>
+#include <tiller/path_t.hpp>
+
+#include "guidance/follower_config.hpp"
+#include "guidance/path_follower.hpp"
+#include "runtime/node.hpp"
+
+namespace tiller::guidance {
+
+class PathFollowerNode : public Node {
+ public:
+  explicit PathFollowerNode(const FollowerNodeParams& p);
+
+  void on_path(const path_t& m, TimeUs now);
+  void on_odometry(const odometry_t& m, TimeUs now);
+  void on_mode(const controller_mode_t& m, TimeUs now);
+  void on_tick(TimeUs now) override;
+
+  const PathFollower& follower() const { return follower_; }
+  const FollowerOutput& last_output() const { return out_; }
+
+ private:
+  void start_pending_path();
+
+  FollowerNodeParams p_;
+  PathFollower follower_;
+  FollowerOutput out_;
+  Freshness odom_fresh_;
+  std::int64_t seen_stale_ = 0;
+  Vec2 pos_{0, 0};
+  double heading_ = 0;
+  TimeUs odom_time_ = 0;
+  TimeUs last_update_odom_time_ = -1;
+  bool is_translation_ = false;
+  std::int64_t path_id_ = -1;
+  bool pending_ = false;
+  std::vector<Waypoint> pending_points_;
+  std::int64_t* nan_odometry_;
+  std::int64_t* invalid_path_;
+  std::int64_t* paths_started_;
+};
+
+}  // namespace tiller::guidance
