@@ -1,0 +1,29 @@
+// tiller-teleop: reads a joystick (Linux js interface) and publishes the pilot's demands.
+#include "runtime/app.hpp"
+#include "runtime/live.hpp"
+#include "teleop/js_device.hpp"
+#include "teleop/teleop_live.hpp"
+#include "teleop/teleop_node.hpp"
+
+int main(int argc, char** argv) {
+  using namespace tiller;
+  const app::Spec spec{
+      "tiller-teleop",
+      "joystick -> manual demand, manual velocity, mode and arm requests",
+      "config/teleop/extreme3dpro_seed000.yaml",
+      {{"device", "PATH", "joystick device, FIFO or file (overrides the config)", ""},
+       {"replay", "", "take TILLER_JOYSTICK from LCM instead of a device", ""}}};
+  const app::Args args = app::parse(argc, argv, spec);
+  return app::guarded_main(spec.program, [&] {
+    TeleopParams p = load_teleop_file(args.config);
+    if (!args.get("device").empty()) p.device_path = args.get("device");
+    const bool replay = args.flag("replay");
+    TeleopNode node(p, replay ? TeleopNode::Input::replay : TeleopNode::Input::device);
+    LiveExecutor ex(args.lcm_url);
+    ex.add(node);
+    if (replay) return ex.run();
+    JsDevice device(p.device_path, p.device_name);
+    JoystickPump pump(device, node, ex, p.reopen_period);
+    return ex.run();
+  });
+}

@@ -1,0 +1,292 @@
+#include "teleop/teleop_node.hpp"
+
+#include <algorithm>
+#include <cmath>
+#include <cstdio>
+
+#include <tiller/arm_request_t.hpp>
+#include <tiller/heartbeat_t.hpp>
+
+#include "core/angles.hpp"
+#include "runtime/channels.hpp"
+
+namespace tiller {
+
+double normalise_axis(int raw, bool trigger) {
+  if (trigger) {
+    return std::clamp((static_cast<double>(raw) + kJsAxisMax) / (2.0 * kJsAxisMax), 0.0, 1.0);
+  }
+  return std::clamp(static_cast<double>(raw) / kJsAxisMax, -1.0, 1.0);
+}
+
+double shape_axis(double x, double deadzone, double expo) {
+  const double a = std::fabs(x);
+  if (!(a > deadzone)) return 0.0;
+  const double s = std::min((a - deadzone) / (1.0 - deadzone), 1.0);
+  const double y = (1.0 - expo) * s + expo * s * s * s;
+  return x < 0 ? -y : y;
+}
+
+TeleopNode::TeleopNode(TeleopParams params, Input input)
+    : Node("teleop", params.period),
+      p_(std::move(params)),
+      input_(input),
+      gain_(p_.gain_initial),
+      mode_(p_.initial_mode),
+      translation_(p_.initial_translation),
+      odom_fresh_(p_.odometry_timeout) {
+  device_ = p_.device_path.empty() ? p_.device_name : p_.device_path;
+  if (input_ == Input::replay) subscribe(channels::kJoystick, &TeleopNode::on_joystick);
+  subscribe(channels::kOdometry, &TeleopNode::on_odometry);
+  rejected_state_ = &counter("rejected.joystick.malformed");
+  rejected_odom_ = &counter("rejected.odometry.nan");
+  disconnects_ = &counter("joystick.disconnects");
+  presses_ = &counter("buttons.presses");
+  bounces_ = &counter("buttons.bounces_ignored");
+  js_msg_.device = device_;
+  js_msg_.connected = false;
+  js_msg_.n_axes = 0;
+  js_msg_.n_buttons = 0;
+  demand_msg_.valid = false;
+  velocity_msg_.valid = false;
+  update_health();
+}
+
+void TeleopNode::feed(const joystick_state_t& state, TimeUs now) {
+  process(state, now);
+}
+
+void TeleopNode::on_joystick(const joystick_state_t& s, TimeUs now) {
+  process(s, now);
+}
+
+void TeleopNode::on_odometry(const odometry_t& o, TimeUs now) {
+  const double yaw = o.orientation[2];
+  if (!std::isfinite(yaw)) {
+    reject(*rejected_odom_);
+    return;
+  }
+  heading_ = wrap_pi(yaw);
+  odom_fresh_.mark(now);
+}
+
+void TeleopNode::process(const joystick_state_t& s, TimeUs now) {
+  if (s.n_axes < 0 || s.n_axes > 64 || s.n_buttons < 0 || s.n_buttons > 128 ||
+      static_cast<int>(s.axes.size()) != s.n_axes ||
+      static_cast<int>(s.buttons.size()) != s.n_buttons) {
+    reject(*rejected_state_);
+    return;
+  }
+  if (input_ == Input::device) {
+    js_msg_.utime = now;
+    js_msg_.connected = s.connected;
+    js_msg_.n_axes = s.n_axes;
+    js_msg_.axes.assign(s.axes.begin(), s.axes.end());
+    js_msg_.n_buttons = s.n_buttons;
+    js_msg_.buttons.assign(s.buttons.begin(), s.buttons.end());
+    if (!s.connected) std::fill(js_msg_.axes.begin(), js_msg_.axes.end(), 0);
+    if (!s.connected) std::fill(js_msg_.buttons.begin(), js_msg_.buttons.end(), false);
+    publish(channels::kJoystick, js_msg_);
+  }
+
+  if (!s.connected) {
+    if (connected_) {
+      ++*disconnects_;
+      connected_ = false;
+      centred_ = false;
+      compute_demand();
+      publish_outputs(now);  // neutral at once, not at the next tick
+      update_health();
+    }
+    return;
+  }
+
+  const std::size_t nb = static_cast<std::size_t>(s.n_buttons);
+  raw_axes_.assign(s.axes.begin(), s.axes.end());
+  if (!connected_) {
+    connected_ = true;
+    centred_ = false;
+    holding_ = false;
+    raw_buttons_.assign(s.buttons.begin(), s.buttons.end());
+    stable_ = raw_buttons_;
+    inhibited_ = raw_buttons_;  // held at connection: not a press
+    raw_since_.assign(nb, now);
+    update_health();
+  } else {
+    if (raw_buttons_.size() < nb) {
+      raw_buttons_.resize(nb, false);
+      stable_.resize(nb, false);
+      inhibited_.resize(nb, false);
+      raw_since_.resize(nb, now);
+    }
+    for (std::size_t i = 0; i < nb; ++i) {
+      const bool b = s.buttons[i] != 0;
+      if (b == raw_buttons_[i]) continue;
+      // A change back to the debounced state before it was accepted was a bounce.
+      if (b == stable_[i] && now - raw_since_[i] < p_.debounce) ++*bounces_;
+      raw_buttons_[i] = b;
+      raw_since_[i] = now;
+    }
+  }
+  update_buttons(now);
+  const bool changed = compute_demand();
+  if (changed && p_.publish_on_change) publish_outputs(now);
+}
+
+void TeleopNode::update_buttons(TimeUs now) {
+  if (!connected_) return;
+  for (std::size_t i = 0; i < raw_buttons_.size(); ++i) {
+    if (raw_buttons_[i] == stable_[i] || now - raw_since_[i] < p_.debounce) continue;
+    stable_[i] = raw_buttons_[i];
+    if (!stable_[i]) {
+      inhibited_[i] = false;
+    } else if (!inhibited_[i]) {
+      on_press(static_cast<int>(i), now);
+    }
+  }
+}
+
+void TeleopNode::on_press(int b, TimeUs now) {
+  ++*presses_;
+  const TeleopButtons& k = p_.buttons;
+  if (b == k.arm || b == k.disarm) {
+    arm_request_t r;
+    r.utime = now;
+    r.arm = b == k.arm;
+    r.source = "teleop";
+    publish(channels::kArmRequest, r);
+  }
+  bool mode_changed = false;
+  if (b == k.mode_open_loop) mode_ = controller_mode_t::MANUAL_OPEN_LOOP, mode_changed = true;
+  if (b == k.mode_closed_loop) mode_ = controller_mode_t::MANUAL_CLOSED_LOOP, mode_changed = true;
+  if (b == k.mode_autonomous) mode_ = controller_mode_t::WAYPOINTING, mode_changed = true;
+  if (b == k.toggle_translation) translation_ = !translation_, mode_changed = true;
+  if (mode_changed) publish_mode(now);
+  if (b == k.gain_up || b == k.gain_down) {
+    const double g = gain_ + (b == k.gain_up ? p_.gain_step : -p_.gain_step);
+    gain_ = std::clamp(g, p_.gain_min, p_.gain_max);
+  }
+  update_health();
+}
+
+bool TeleopNode::compute_demand() {
+  std::array<double, 6> d{};
+  bool valid = false;
+  if (connected_) {
+    auto axis_raw = [&](int a) {
+      return a < static_cast<int>(raw_axes_.size()) ? raw_axes_[a] : 0;
+    };
+    auto held = [&](int b) {
+      return b >= 0 && b < static_cast<int>(stable_.size()) && stable_[b] && !inhibited_[b];
+    };
+    if (!centred_) {
+      bool c = true;
+      for (const TeleopAxis& a : p_.axes) {
+        const double x = normalise_axis(axis_raw(a.axis), a.trigger);
+        if (std::fabs(x) > a.deadzone) c = false;
+      }
+      for (const TeleopButtonAxis& a : p_.button_axes) {
+        if (held(a.plus) || held(a.minus)) c = false;
+      }
+      if (c) {
+        centred_ = true;
+        update_health();
+      }
+    }
+    if (centred_) {
+      valid = true;
+      for (const TeleopAxis& a : p_.axes) {
+        const double x = normalise_axis(axis_raw(a.axis), a.trigger);
+        d[static_cast<std::size_t>(a.dof)] += a.sign * shape_axis(x, a.deadzone, a.expo) * a.gain;
+      }
+      for (const TeleopButtonAxis& a : p_.button_axes) {
+        d[static_cast<std::size_t>(a.dof)] +=
+            a.gain * ((held(a.plus) ? 1.0 : 0.0) - (held(a.minus) ? 1.0 : 0.0));
+      }
+      for (double& v : d) v = std::clamp(v * gain_, -1.0, 1.0);
+    }
+  }
+  const bool changed = d != demand_ || valid != valid_;
+  demand_ = d;
+  valid_ = valid;
+  return changed;
+}
+
+void TeleopNode::publish_outputs(TimeUs now) {
+  demand_msg_.utime = now;
+  std::copy(demand_.begin(), demand_.end(), demand_msg_.demand);
+  demand_msg_.valid = valid_;
+  publish(channels::kManualDemand, demand_msg_);
+
+  manual_velocity_cmd_t& v = velocity_msg_;
+  v.utime = now;
+  for (int i = 0; i < 3; ++i)
+    v.velocity[i] =
+        demand_[static_cast<std::size_t>(i)] * p_.max_speed[static_cast<std::size_t>(i)];
+  const double n = demand_[5];
+  v.yaw_rate = 0.0;
+  v.heading = 0.0;
+  v.yaw_torque = 0.0;
+  switch (p_.yaw_mode) {
+    case YawMode::rate:
+      v.yaw_mode = manual_velocity_cmd_t::YAW_RATE;
+      v.yaw_rate = n * p_.max_yaw_rate;
+      break;
+    case YawMode::torque:
+      v.yaw_mode = manual_velocity_cmd_t::YAW_TORQUE;
+      v.yaw_torque = n * p_.max_yaw_torque;
+      break;
+    case YawMode::heading_hold:
+      if (n != 0.0 || !valid_ || !odom_fresh_.fresh(now)) {
+        holding_ = false;
+        v.yaw_mode = manual_velocity_cmd_t::YAW_RATE;
+        v.yaw_rate = n * p_.max_yaw_rate;
+      } else {
+        if (!holding_) held_heading_ = heading_;
+        holding_ = true;
+        v.yaw_mode = manual_velocity_cmd_t::YAW_HEADING;
+        v.heading = held_heading_;
+      }
+      break;
+  }
+  v.valid = valid_;
+  publish(channels::kManualVelocity, v);
+}
+
+void TeleopNode::publish_mode(TimeUs now) {
+  controller_mode_t m;
+  m.utime = now;
+  m.mode = mode_;
+  m.is_translation = translation_;
+  m.source = "teleop";
+  publish(channels::kMode, m);
+}
+
+void TeleopNode::on_tick(TimeUs now) {
+  if (input_ == Input::device) {
+    js_msg_.utime = now;
+    publish(channels::kJoystick, js_msg_);
+  }
+  update_buttons(now);
+  compute_demand();
+  publish_outputs(now);
+}
+
+void TeleopNode::update_health() {
+  static const char* const mode_names[3] = {"open-loop manual", "closed-loop manual", "autonomous"};
+  const char* mode = mode_ >= 0 && mode_ <= 2 ? mode_names[mode_] : "?";
+  char buf[160];
+  if (!connected_) {
+    std::snprintf(buf, sizeof buf, "joystick absent (%s)", device_.c_str());
+    set_health(heartbeat_t::STATE_DEGRADED, buf);
+  } else if (!centred_) {
+    set_health(heartbeat_t::STATE_DEGRADED,
+               "joystick connected, waiting for the stick to be centred");
+  } else {
+    std::snprintf(buf, sizeof buf, "joystick ok; mode %s%s; gain %.2f", mode,
+                  translation_ ? " (translation)" : "", gain_);
+    set_health(heartbeat_t::STATE_OK, buf);
+  }
+}
+
+}  // namespace tiller

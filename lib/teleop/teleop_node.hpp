@@ -1,0 +1,100 @@
+// tiller-teleop's logic: joystick states in, pilot demands out. Pure: no device, no clock.
+//
+// Input: joystick_state_t (raw js-unit axes and buttons, plus whether the device is present),
+// either fed by the app straight from the device (feed(), live mode: the node then publishes
+// TILLER_JOYSTICK itself, for logs) or, for replay, taken from TILLER_JOYSTICK
+// (Input::replay). Optional TILLER_ODOMETRY gives the heading for closed-loop heading hold.
+// Outputs, every period and at once when the stick moves (publish_on_change):
+//   TILLER_MANUAL_DEMAND   normalised [X Y Z K M N] FRD in [-1, 1] (see teleop_params.hpp)
+//   TILLER_MANUAL_VELOCITY body [u v w] m/s and yaw rate / heading / torque (seed 004)
+// and on (debounced) button presses TILLER_ARM_REQUEST and TILLER_MODE.
+// Safety: a state with connected=false gives a neutral, invalid demand published at once and
+// a DEGRADED "joystick absent" heartbeat. After (re)connection the output stays neutral and
+// invalid until every mapped axis has been seen inside its deadzone (no jump to a held
+// deflection); buttons held at connection count only after they are released.
+#pragma once
+
+#include <array>
+#include <string>
+#include <vector>
+
+#include <tiller/controller_mode_t.hpp>
+#include <tiller/joystick_state_t.hpp>
+#include <tiller/manual_demand_t.hpp>
+#include <tiller/manual_velocity_cmd_t.hpp>
+#include <tiller/odometry_t.hpp>
+
+#include "runtime/node.hpp"
+#include "teleop/teleop_params.hpp"
+
+namespace tiller {
+
+// Shapes one normalised axis value x in [-1, 1]: deadzone with rescaling, then expo (no gain).
+double shape_axis(double x, double deadzone, double expo);
+// Normalises a raw js value: [-1, 1], or [0, 1] for a trigger axis.
+double normalise_axis(int raw, bool trigger);
+
+class TeleopNode : public Node {
+ public:
+  enum class Input { device, replay };
+  explicit TeleopNode(TeleopParams params, Input input = Input::device);
+
+  // Live mode: a new state read from the device (or a disconnection) at time `now`.
+  void feed(const joystick_state_t& state, TimeUs now);
+
+  // For tests and the heartbeat.
+  bool connected() const { return connected_; }
+  bool centred() const { return centred_; }
+  double gain() const { return gain_; }
+  std::int8_t mode() const { return mode_; }
+  bool is_translation() const { return translation_; }
+  const std::array<double, 6>& demand() const { return demand_; }
+  const TeleopParams& params() const { return p_; }
+
+ protected:
+  void on_tick(TimeUs now) override;
+
+ private:
+  void on_joystick(const joystick_state_t& s, TimeUs now);
+  void on_odometry(const odometry_t& o, TimeUs now);
+  void process(const joystick_state_t& s, TimeUs now);
+  void update_buttons(TimeUs now);
+  void on_press(int button, TimeUs now);
+  bool compute_demand();  // from raw_*; returns true if the output changed
+  void publish_outputs(TimeUs now);
+  void publish_mode(TimeUs now);
+  void update_health();
+
+  TeleopParams p_;
+  Input input_;
+  std::string device_;
+  bool connected_ = false;
+  bool centred_ = false;
+  std::vector<std::int16_t> raw_axes_;
+  std::vector<bool> raw_buttons_;
+  std::vector<bool> stable_;       // debounced button state
+  std::vector<TimeUs> raw_since_;  // when the raw state last changed
+  std::vector<bool> inhibited_;    // held at connection: ignore until released
+  std::array<double, 6> demand_{};
+  bool valid_ = false;
+  double gain_;
+  std::int8_t mode_;
+  bool translation_;
+  // heading hold
+  Freshness odom_fresh_;
+  double heading_ = 0.0;
+  bool holding_ = false;
+  double held_heading_ = 0.0;
+
+  joystick_state_t js_msg_;
+  manual_demand_t demand_msg_;
+  manual_velocity_cmd_t velocity_msg_;
+  std::int64_t* rejected_state_;
+  std::int64_t* rejected_odom_;
+  std::int64_t* disconnects_;
+  std::int64_t* presses_;
+  std::int64_t* bounces_;
+  std::string status_;
+};
+
+}  // namespace tiller

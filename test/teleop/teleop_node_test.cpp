@@ -1,0 +1,388 @@
+// TeleopNode: shaping (deadzone continuity, expo), the presets' mapping and FRD signs, INIT
+// events, unplug -> neutral at once, replug requires centring, debounced buttons, gain steps,
+// modes, closed-loop manual velocity with heading hold, replay identity, bad input and config.
+#include <gtest/gtest.h>
+
+#include <cmath>
+#include <cstring>
+
+#include <tiller/manual_velocity_cmd_t.hpp>
+
+#include "runtime/replay.hpp"
+#include "teleop_rig.hpp"
+
+namespace tiller {
+namespace {
+
+using test::config_path;
+using test::Rig;
+
+constexpr TimeUs ms(double v) {
+  return static_cast<TimeUs>(v * 1000);
+}
+
+TEST(Shaping, DeadzoneIsContinuousAndFullAtFullDeflection) {
+  for (double d : {0.0, 0.05, 0.08, 0.3}) {
+    for (double e : {0.0, 0.3, 1.0}) {
+      EXPECT_EQ(shape_axis(d, d, e), 0.0);
+      EXPECT_EQ(shape_axis(-d * 0.5, d, e), 0.0);
+      // Just past the edge the output is tiny: no step at the deadzone edge.
+      EXPECT_LT(std::fabs(shape_axis(d + 1e-9, d, e)), 1e-8);
+      EXPECT_LT(std::fabs(shape_axis(-d - 1e-9, d, e)), 1e-8);
+      EXPECT_DOUBLE_EQ(shape_axis(1.0, d, e), 1.0);
+      EXPECT_DOUBLE_EQ(shape_axis(-1.0, d, e), -1.0);
+      // Monotonic and odd.
+      double prev = -2;
+      for (int i = -100; i <= 100; ++i) {
+        const double x = i / 100.0;
+        const double y = shape_axis(x, d, e);
+        EXPECT_GE(y, prev);
+        EXPECT_DOUBLE_EQ(y, -shape_axis(-x, d, e));
+        prev = y;
+      }
+    }
+  }
+  // Hand computed: d = 0.1, e = 0.3, x = 0.55 -> s = 0.5 -> 0.7 * 0.5 + 0.3 * 0.125 = 0.3875.
+  EXPECT_DOUBLE_EQ(shape_axis(0.55, 0.1, 0.3), 0.3875);
+  EXPECT_DOUBLE_EQ(shape_axis(-0.55, 0.1, 0.0), -0.5);
+}
+
+TEST(Shaping, NormalisesJsUnits) {
+  EXPECT_DOUBLE_EQ(normalise_axis(32767, false), 1.0);
+  EXPECT_DOUBLE_EQ(normalise_axis(-32767, false), -1.0);
+  EXPECT_DOUBLE_EQ(normalise_axis(-32768, false), -1.0);  // clamped
+  EXPECT_DOUBLE_EQ(normalise_axis(0, false), 0.0);
+  EXPECT_DOUBLE_EQ(normalise_axis(-32767, true), 0.0);  // trigger released
+  EXPECT_DOUBLE_EQ(normalise_axis(0, true), 0.5);
+  EXPECT_DOUBLE_EQ(normalise_axis(32767, true), 1.0);
+}
+
+TEST(Presets, AllLoad) {
+  for (const char* f :
+       {"extreme3dpro_seed000.yaml", "extreme3dpro_seed001.yaml", "gamepad_xbox.yaml"}) {
+    EXPECT_NO_THROW(load_teleop_file(config_path(f))) << f;
+  }
+}
+
+TEST(Mapping, Seed000StickForwardIsSurgeRightIsSway) {
+  Rig r(load_teleop_file(config_path("extreme3dpro_seed000.yaml")));
+  r.play("e3dp_positions.js");
+  EXPECT_EQ(r.parser.init_events(), 18);  // 12 buttons + 6 axes
+  auto at = [&](double t_ms) { return r.demand_at(ms(t_ms)); };
+  // At plug-in (INIT, stick centred): valid at once, zero.
+  EXPECT_TRUE(at(1000).valid);
+  for (double v : at(1000).demand) EXPECT_EQ(v, 0.0);
+  // Full forward: raw Y = -32767 -> +X (seed 000: jy = -axis1), nothing else.
+  EXPECT_DOUBLE_EQ(at(1100).demand[0], 1.0);
+  EXPECT_EQ(at(1100).demand[1], 0.0);
+  // Half forward: x = 16384/32767, d = 0.08, expo 0.3 -> 0.348123 (hand computed).
+  EXPECT_NEAR(at(1200).demand[0], 0.3481233, 1e-6);
+  // Full right -> +Y only.
+  EXPECT_EQ(at(1300).demand[0], 0.0);
+  EXPECT_DOUBLE_EQ(at(1300).demand[1], 1.0);
+  // Corner of the square: both full (the mixer maps the square onto what the thrusters can do).
+  EXPECT_DOUBLE_EQ(at(1500).demand[0], 1.0);
+  EXPECT_DOUBLE_EQ(at(1500).demand[1], 1.0);
+  for (int i = 2; i < 6; ++i) EXPECT_EQ(at(1500).demand[i], 0.0);
+  EXPECT_EQ(at(1600).demand[0], 0.0);
+  // Each change was published at the instant of the event (not at the next tick).
+  bool at_1100 = false;
+  for (const auto& [t, m] : r.all<manual_demand_t>(channels::kManualDemand)) {
+    if (t == ms(1100) && m.demand[0] == 1.0) at_1100 = true;
+  }
+  EXPECT_TRUE(at_1100);
+}
+
+TEST(Mapping, Seed001FiveDofSigns) {
+  Rig r(load_teleop_file(config_path("extreme3dpro_seed001.yaml")));
+  auto& s = r.state;
+  s.n_axes = 6;
+  s.axes = {0, 0, 0, 32767, 0, 0};
+  s.n_buttons = 12;
+  s.buttons.assign(12, false);
+  s.connected = true;
+  r.feed(ms(100));
+  ASSERT_TRUE(r.node.centred());
+  s.axes[2] = 32767;  // twist clockwise -> yaw clockwise (+N)
+  r.feed(ms(200));
+  EXPECT_DOUBLE_EQ(r.demand_at(ms(200)).demand[5], 1.0);
+  s.axes[2] = 0;
+  s.axes[5] = -32767;  // hat up -> elevate up (-Z in FRD)
+  r.feed(ms(300));
+  EXPECT_DOUBLE_EQ(r.demand_at(ms(300)).demand[2], -1.0);
+  s.axes[5] = 32767;  // hat down -> descend (+Z)
+  r.feed(ms(400));
+  EXPECT_DOUBLE_EQ(r.demand_at(ms(400)).demand[2], 1.0);
+  s.axes[5] = 0;
+  s.axes[1] = -32767;  // forward and strafe left
+  s.axes[0] = -32767;
+  r.feed(ms(500));
+  EXPECT_DOUBLE_EQ(r.demand_at(ms(500)).demand[0], 1.0);
+  EXPECT_DOUBLE_EQ(r.demand_at(ms(500)).demand[1], -1.0);
+  s.axes[0] = s.axes[1] = 0;
+  s.buttons[4] = true;  // pitch nose up (+M), after the debounce
+  r.feed(ms(600));
+  r.run_until(ms(660));
+  EXPECT_DOUBLE_EQ(r.demand_at(ms(660)).demand[4], 1.0);
+  s.buttons[4] = false;
+  s.buttons[5] = true;  // nose down
+  r.feed(ms(700));
+  r.run_until(ms(760));
+  EXPECT_DOUBLE_EQ(r.demand_at(ms(760)).demand[4], -1.0);
+  // The slider (axis 3, resting at full) is not mapped and never blocks centring.
+}
+
+TEST(Mapping, GamepadTriggersHeaveWithGain) {
+  Rig r(load_teleop_file(config_path("gamepad_xbox.yaml")));
+  r.play("xbox_triggers.js");
+  // Triggers at rest (-32767) count as centred: valid at plug-in.
+  EXPECT_TRUE(r.demand_at(ms(1000)).valid);
+  EXPECT_EQ(r.demand_at(ms(1000)).demand[2], 0.0);
+  // RT half: 0.5 normalised, d = 0.05, expo 0.3 -> 0.363464, x gain 0.75, elevate up (-Z).
+  EXPECT_NEAR(r.demand_at(ms(1100)).demand[2], -0.2725980, 1e-6);
+  EXPECT_DOUBLE_EQ(r.demand_at(ms(1200)).demand[2], 0.75);  // LT full -> descend
+  EXPECT_DOUBLE_EQ(r.demand_at(ms(1300)).demand[0], 0.75);  // left stick up -> forward
+  EXPECT_EQ(r.demand_at(ms(1300)).demand[2], 0.0);
+}
+
+TEST(Connection, InitDeflectedWaitsForCentre) {
+  Rig r(load_teleop_file(config_path("extreme3dpro_seed000.yaml")));
+  r.play("e3dp_init_deflected.js");
+  EXPECT_FALSE(r.demand_at(ms(1000)).valid);
+  EXPECT_FALSE(r.demand_at(ms(1199)).valid);
+  for (const auto& [t, m] : r.all<manual_demand_t>(channels::kManualDemand)) {
+    if (t < ms(1200)) {
+      EXPECT_FALSE(m.valid);
+      for (double v : m.demand) EXPECT_EQ(v, 0.0);  // no jump to the held deflection
+    }
+  }
+  EXPECT_TRUE(r.demand_at(ms(1200)).valid);
+  EXPECT_DOUBLE_EQ(r.demand_at(ms(1300)).demand[0], 1.0);
+}
+
+TEST(Connection, UnplugGivesNeutralAtOnceAndReplugNeedsCentring) {
+  Rig r(load_teleop_file(config_path("extreme3dpro_seed000.yaml")));
+  r.play("e3dp_positions.js");
+  // Hold full forward, then pull the plug at 1710 ms, between ticks.
+  r.state.axes[1] = -32767;
+  r.feed(ms(1700));
+  EXPECT_DOUBLE_EQ(r.demand_at(ms(1700)).demand[0], 1.0);
+  r.unplug(ms(1710));
+  const auto d = r.demand_at(ms(1710));  // published at the unplug instant itself
+  EXPECT_FALSE(d.valid);
+  for (double v : d.demand) EXPECT_EQ(v, 0.0);
+  EXPECT_FALSE(r.node.connected());
+  EXPECT_EQ(r.node.counter_value("joystick.disconnects"), 1);
+  // Stays neutral on every tick while absent; the heartbeat says why.
+  r.run_until(ms(3000));
+  for (const auto& [t, m] : r.all<manual_demand_t>(channels::kManualDemand)) {
+    if (t >= ms(1710)) {
+      EXPECT_FALSE(m.valid);
+    }
+  }
+  const auto hb = r.all<heartbeat_t>(r.node.heartbeat_channel());
+  ASSERT_FALSE(hb.empty());
+  EXPECT_EQ(hb.back().second.state, heartbeat_t::STATE_DEGRADED);
+  EXPECT_NE(hb.back().second.status.find("joystick absent"), std::string::npos);
+  // Replug with the stick held forward (the recorded deflected plug-in, 3 s later).
+  r.play("e3dp_init_deflected.js", ms(3000));
+  EXPECT_FALSE(r.demand_at(ms(4100)).valid);
+  EXPECT_EQ(r.demand_at(ms(4100)).demand[0], 0.0);
+  EXPECT_TRUE(r.demand_at(ms(4200)).valid);
+  EXPECT_DOUBLE_EQ(r.demand_at(ms(4300)).demand[0], 1.0);
+  r.run_until(ms(5100));
+  EXPECT_EQ(r.all<heartbeat_t>(r.node.heartbeat_channel()).back().second.state,
+            heartbeat_t::STATE_OK);
+}
+
+TEST(Buttons, DebouncedArmAndDisarm) {
+  Rig r(load_teleop_file(config_path("extreme3dpro_seed000.yaml")));
+  r.play("e3dp_buttons.js");
+  r.run_until(ms(2000));
+  const auto req = r.all<arm_request_t>(channels::kArmRequest);
+  ASSERT_EQ(req.size(), 2u);  // the 5 ms pulses at 1100-1115 ms and the bounce at 1200 ignored
+  EXPECT_TRUE(req[0].second.arm);
+  // Held from 1206 ms: stable after 30 ms (1236), seen at the next tick (1240).
+  EXPECT_EQ(req[0].first, ms(1240));
+  EXPECT_EQ(req[0].second.source, "teleop");
+  EXPECT_FALSE(req[1].second.arm);
+  EXPECT_EQ(req[1].first, ms(1540));
+  EXPECT_GE(r.node.counter_value("buttons.bounces_ignored"), 3);
+}
+
+TEST(Buttons, HeldAtPlugInDoesNotArm) {
+  Rig r(load_teleop_file(config_path("extreme3dpro_seed000.yaml")));
+  r.play("e3dp_init_button_held.js");
+  r.run_until(ms(2000));
+  const auto req = r.all<arm_request_t>(channels::kArmRequest);
+  ASSERT_EQ(req.size(), 1u);
+  EXPECT_EQ(req[0].first, ms(1440));  // the fresh press at 1400, not the INIT state at 1000
+}
+
+TEST(Buttons, GainStepsModesAndTranslation) {
+  TeleopParams p = load_teleop_file(config_path("extreme3dpro_seed000.yaml"));
+  p.debounce = 0;
+  Rig r(p);
+  auto& s = r.state;
+  s.n_axes = 6;
+  s.axes = {0, 0, 0, 0, 0, 0};
+  s.n_buttons = 12;
+  s.buttons.assign(12, false);
+  s.connected = true;
+  r.feed(ms(0));
+  auto press = [&](int b, double t) {
+    s.buttons[static_cast<std::size_t>(b)] = true;
+    r.feed(ms(t));
+    s.buttons[static_cast<std::size_t>(b)] = false;
+    r.feed(ms(t + 50));
+  };
+  press(3, 100);  // gain down: 1.0 -> 0.75
+  press(3, 200);  // 0.5
+  press(3, 300);  // 0.25
+  press(3, 400);  // stays at the minimum 0.25
+  EXPECT_DOUBLE_EQ(r.node.gain(), 0.25);
+  press(2, 500);  // gain up: 0.5
+  EXPECT_DOUBLE_EQ(r.node.gain(), 0.5);
+  s.axes[1] = -32767;
+  r.feed(ms(600));
+  EXPECT_DOUBLE_EQ(r.demand_at(ms(600)).demand[0], 0.5);
+  s.axes[1] = 0;
+  press(9, 700);   // closed-loop manual
+  press(11, 800);  // is_translation on
+  press(10, 900);  // autonomous
+  const auto modes = r.all<controller_mode_t>(channels::kMode);
+  ASSERT_EQ(modes.size(), 3u);
+  EXPECT_EQ(modes[0].second.mode, controller_mode_t::MANUAL_CLOSED_LOOP);
+  EXPECT_FALSE(modes[0].second.is_translation);
+  EXPECT_EQ(modes[1].second.mode, controller_mode_t::MANUAL_CLOSED_LOOP);
+  EXPECT_TRUE(modes[1].second.is_translation);
+  EXPECT_EQ(modes[2].second.mode, controller_mode_t::WAYPOINTING);
+  EXPECT_TRUE(modes[2].second.is_translation);
+  EXPECT_TRUE(r.all<arm_request_t>(channels::kArmRequest).empty());
+}
+
+TEST(ClosedLoop, VelocityScaledAndHeadingHeld) {
+  Rig r(load_teleop_file(config_path("extreme3dpro_seed001.yaml")));
+  auto& s = r.state;
+  s.n_axes = 6;
+  s.axes = {0, -32767, 0, 0, 0, 0};
+  s.n_buttons = 12;
+  s.buttons.assign(12, false);
+  s.connected = true;
+  r.feed(ms(0));  // deflected at plug-in: invalid
+  s.axes[1] = 0;
+  r.feed(ms(10));
+  odometry_t o{};
+  o.orientation[2] = 1.0;
+  r.node.deliver(channels::kOdometry, nullptr, 0, ms(15));  // malformed: counted, ignored
+  auto deliver_odom = [&](double t) {
+    std::vector<std::uint8_t> b(static_cast<std::size_t>(o.getEncodedSize()));
+    o.encode(b.data(), 0, static_cast<int>(b.size()));
+    r.node.deliver(channels::kOdometry, b.data(), static_cast<int>(b.size()), ms(t));
+  };
+  deliver_odom(20);
+  s.axes[1] = -32767;  // full forward, full twist clockwise
+  s.axes[2] = 32767;
+  r.feed(ms(30));
+  auto last_vel = [&] {
+    return r.all<manual_velocity_cmd_t>(channels::kManualVelocity).back().second;
+  };
+  manual_velocity_cmd_t v = last_vel();
+  EXPECT_TRUE(v.valid);
+  EXPECT_DOUBLE_EQ(v.velocity[0], 0.5);
+  EXPECT_EQ(v.yaw_mode, manual_velocity_cmd_t::YAW_RATE);
+  EXPECT_NEAR(v.yaw_rate, 30.0 * M_PI / 180.0, 1e-12);
+  // Twist released: hold the heading seen at release, even when odometry then moves.
+  o.orientation[2] = 1.2;
+  deliver_odom(35);
+  s.axes[2] = 0;
+  r.feed(ms(40));
+  o.orientation[2] = 1.3;
+  deliver_odom(45);
+  r.run_until(ms(60));
+  v = last_vel();
+  EXPECT_EQ(v.yaw_mode, manual_velocity_cmd_t::YAW_HEADING);
+  EXPECT_DOUBLE_EQ(v.heading, 1.2);
+  // NaN odometry is dropped and counted.
+  o.orientation[2] = std::nan("");
+  deliver_odom(70);
+  EXPECT_EQ(r.node.counter_value("rejected.odometry.nan"), 1);
+  // Stale odometry (> 0.5 s): no heading to hold, zero yaw rate instead.
+  r.run_until(ms(700));
+  v = last_vel();
+  EXPECT_EQ(v.yaw_mode, manual_velocity_cmd_t::YAW_RATE);
+  EXPECT_EQ(v.yaw_rate, 0.0);
+}
+
+TEST(Input, MalformedStateRejected) {
+  Rig r(load_teleop_file(config_path("extreme3dpro_seed000.yaml")));
+  r.state.connected = true;
+  r.state.n_axes = 3;  // but no axis values
+  r.feed(ms(10));
+  EXPECT_EQ(r.node.counter_value("rejected.joystick.malformed"), 1);
+  EXPECT_FALSE(r.node.connected());
+}
+
+TEST(Replay, SameOutputsFromTheRecordedJoystickChannel) {
+  const TeleopParams p = load_teleop_file(config_path("extreme3dpro_seed000.yaml"));
+  Rig live(p);
+  live.play("e3dp_positions.js");
+  live.unplug(ms(1710));
+  live.play("e3dp_init_deflected.js", ms(2000));
+  live.play("e3dp_buttons.js", ms(4000));
+  live.run_until(ms(6000));
+  std::vector<Event> log;
+  for (const Event& e : live.bus.events) {
+    if (e.channel == channels::kJoystick) log.push_back(e);
+  }
+  TeleopNode replayed(p, TeleopNode::Input::replay);
+  ReplayExecutor rx(replayed);
+  rx.run(log, TimeUs{0}, ms(6000));
+  auto pick = [](const std::vector<Event>& ev, const std::string& ch) {
+    std::vector<Event> out;
+    for (const Event& e : ev) {
+      if (e.channel == ch) out.push_back(e);
+    }
+    return out;
+  };
+  for (const char* ch :
+       {channels::kManualDemand, channels::kArmRequest, channels::kManualVelocity}) {
+    ASSERT_FALSE(pick(live.bus.events, ch).empty()) << ch;
+    const auto a = pick(live.bus.events, ch);
+    const auto b = pick(rx.outputs(), ch);
+    ASSERT_EQ(a.size(), b.size()) << ch;
+    for (std::size_t i = 0; i < a.size(); ++i) {
+      EXPECT_EQ(a[i].time, b[i].time) << ch << " " << i;
+      EXPECT_EQ(a[i].data, b[i].data) << ch << " " << i;
+    }
+  }
+}
+
+TEST(Config, ErrorsNameKeyAndExpectation) {
+  auto err = [](const std::string& text) {
+    try {
+      load_teleop(config::Value::parse(text, "t.yaml"));
+    } catch (const config::Error& e) {
+      return std::string(e.what());
+    }
+    return std::string("no error");
+  };
+  const std::string ok_axes = "axes:\n  - {axis: 1, dof: surge, sign: -1}\n";
+  EXPECT_EQ(err("device: {path: /dev/input/js0}\n" + ok_axes), "no error");
+  EXPECT_NE(err("device: {}\n" + ok_axes).find("device"), std::string::npos);
+  const std::string e1 = err("device: {path: x}\naxes:\n  - {axis: 1, dof: surge, sign: 2}\n");
+  EXPECT_NE(e1.find("sign"), std::string::npos) << e1;
+  EXPECT_NE(e1.find("t.yaml"), std::string::npos) << e1;
+  EXPECT_NE(err("device: {path: x}\naxes:\n  - {axis: 1, dof: sideways, sign: 1}\n").find("dof"),
+            std::string::npos);
+  EXPECT_NE(err("device: {path: x}\n" + ok_axes + "deadzon: 0.1\n").find("deadzon"),
+            std::string::npos);
+  EXPECT_NE(err("device: {path: x}\n" + ok_axes + "buttons: {arm: 3, disarm: 3}\n").find("disarm"),
+            std::string::npos);
+  EXPECT_NE(err("device: {path: x}\naxes:\n  - {axis: 1, dof: surge, sign: 1, deadzone: 0.95}\n")
+                .find("deadzone"),
+            std::string::npos);
+}
+
+}  // namespace
+}  // namespace tiller
