@@ -66,7 +66,8 @@ int run(int argc, char** argv) {
   const app::Spec spec{
       "tiller-launch",
       "Starts the processes of a launch file, logs the run, stops them cleanly.\n"
-      "Usage: tiller-launch [options] LAUNCH_FILE   |   tiller-launch status LAUNCH_FILE\n"
+      "Usage: tiller-launch [options] LAUNCH_FILE (or --config LAUNCH_FILE) | tiller-launch status "
+      "LAUNCH_FILE\n"
       "Exit status: 0 clean, 1 the run failed, 2 bad launch file or usage, 3 a critical process "
       "failed.",
       "",
@@ -93,11 +94,12 @@ int run(int argc, char** argv) {
     std::cout << in.rdbuf();
     return 0;
   }
-  if (args.positional.size() != 1) {
+  // The launch file: the one positional argument, or --config FILE.
+  if (args.positional.size() > 1 || (args.positional.empty() && args.config.empty())) {
     std::cerr << "tiller-launch: give one launch file (see --help)\n";
     return kExitUsage;
   }
-  LaunchFile lf = load_launch_file(args.positional[0]);
+  LaunchFile lf = load_launch_file(args.positional.empty() ? args.config : args.positional[0]);
   if (explicit_option(argc, argv, "lcm-url")) lf.lcm_url = with_default_ttl(args.lcm_url);
   std::vector<std::size_t> chosen;
   try {
@@ -123,13 +125,16 @@ int run(int argc, char** argv) {
     lg.name = "logger";
     lg.command = "lcm-logger";
     lg.group = "logger";
-    lg.args = {"--lcm-url=" + lf.lcm_url, "--channel=" + lf.logger.channels};
+    lg.args = {"--channel=" + lf.logger.channels};
     if (lf.logger.split_mb > 0) {
       lg.args.push_back("--split-mb=" + std::to_string(lf.logger.split_mb));
       lg.args.push_back("--increment");
     } else if (lf.logger.rotate > 0) {
       lg.args.push_back("--rotate=" + std::to_string(lf.logger.rotate));
     }
+    // lcm-logger 1.3.1: -l is broken, and --lcm-url before --split-mb loses the file name; so
+    // --lcm-url= comes last before the file.
+    lg.args.push_back("--lcm-url=" + lf.lcm_url);
     lg.args.push_back(log_file);
     lg.restart = Restart::kOnFailure;
     procs.push_back(lg);
@@ -191,7 +196,11 @@ int run(int argc, char** argv) {
   Supervisor sup(procs, lf.ends_with, lf.grace_s, host, note);
   host.print("launch",
              lf.name + ": " + std::to_string(procs.size()) + " processes, lcm " + lf.lcm_url);
-  if (log) host.print("launch", "log: " + log_file);
+  if (log)
+    host.print("launch", "log: " + log_file +
+                             (lf.logger.split_mb > 0 ? ".00"
+                              : lf.logger.rotate > 0 ? ".0"
+                                                     : ""));
   const TimeUs t0 = wall_time_us();
   sup.start(t0);
 
@@ -257,7 +266,11 @@ int run(int argc, char** argv) {
                              << sup.stop_reason() << "\n"
                              << sup.status_table(end);
   if (log) {
-    std::cout << "tiller-launch: log " << log_file << (lf.logger.split_mb > 0 ? ".*" : "") << "\n";
+    std::cout << "tiller-launch: log " << log_file
+              << (lf.logger.split_mb > 0 ? ".00 (and following parts)"
+                  : lf.logger.rotate > 0 ? ".0"
+                                         : "")
+              << "\n";
   }
   std::cout << "tiller-launch: " << sup.stop_reason() << "; exit status " << sup.exit_status()
             << "\n";
