@@ -1,0 +1,247 @@
+// Velocity PID, station-keeping PID and arbiter: hand-computed values and invariants.
+#include <gtest/gtest.h>
+
+#include <tiller/controller_mode_t.hpp>
+#include <tiller/wrench_t.hpp>
+
+#include <cmath>
+
+#include "control/arbiter.hpp"
+#include "control/control_config.hpp"
+#include "control/station_pid.hpp"
+#include "control/velocity_pid.hpp"
+#include "core/config.hpp"
+
+namespace tiller::control {
+namespace {
+
+VelocityPidParams vparams() {
+  VelocityPidParams p;
+  p.surge = {10, 2, 5, 4, 100, 1000};
+  p.sway = {20, 0, 8, 2, 1.0, 1000};
+  p.yaw = {3, 0, 6, 1, 10, 50};
+  p.heading_kp = 1.0;
+  p.max_yaw_rate = 0.5;
+  p.max_dt = 0.5;
+  return p;
+}
+
+TEST(VelocityPid, DragFeedForwardPlusErrorPlusIntegral) {
+  VelocityPid pid(vparams());
+  VelocityPidInput in;
+  in.u_sp = 1.0;
+  in.u = 0.5;
+  in.v_sp = -0.5;
+  in.v = 0.0;
+  in.yaw_mode = YawMode::kRate;
+  in.yaw_value = 0.2;
+  in.r = 0.1;
+  in.dt = 0.1;
+  const auto t = pid.step(in);
+  EXPECT_DOUBLE_EQ(t.ff[0], 10 * 1.0 + 2 * 1.0);  // linear + quadratic drag on the setpoint
+  EXPECT_DOUBLE_EQ(t.p[0], 5 * 0.5);
+  EXPECT_DOUBLE_EQ(t.i[0], 4 * 0.5 * 0.1);
+  EXPECT_DOUBLE_EQ(t.out[0], 12 + 2.5 + 0.2);
+  EXPECT_DOUBLE_EQ(t.out[1], 20 * -0.5 + 8 * -0.5 + 2 * -0.5 * 0.1);
+  EXPECT_DOUBLE_EQ(t.out[2], 3 * 0.2 + 6 * 0.1 + 1 * 0.1 * 0.1);
+  // A second step with dt from the message times accumulates.
+  in.dt = 0.05;
+  EXPECT_DOUBLE_EQ(pid.step(in).i[0], 0.2 + 4 * 0.5 * 0.05);
+}
+
+TEST(VelocityPid, NoIntegrationForBadDtAndWhileFrozen) {
+  VelocityPid pid(vparams());
+  VelocityPidInput in;
+  in.u_sp = 1.0;
+  in.dt = 0.0;
+  EXPECT_DOUBLE_EQ(pid.step(in).i[0], 0.0);
+  in.dt = 2.0;  // a gap longer than max_dt
+  EXPECT_DOUBLE_EQ(pid.step(in).i[0], 0.0);
+  in.dt = -0.1;
+  EXPECT_DOUBLE_EQ(pid.step(in).i[0], 0.0);
+  in.dt = 0.1;
+  EXPECT_DOUBLE_EQ(pid.step(in).i[0], 0.4);
+  in.freeze = {true, false, false};  // the mixer reduced X
+  const auto t = pid.step(in);
+  EXPECT_DOUBLE_EQ(t.i[0], 0.4);
+  EXPECT_TRUE(t.frozen[0]);
+  // The integral is bounded.
+  in.freeze = {false, false, false};
+  in.v_sp = 1.0;
+  for (int k = 0; k < 100; ++k) pid.step(in);
+  EXPECT_DOUBLE_EQ(pid.integral()[1], 1.0);
+}
+
+TEST(VelocityPid, HeadingTargetBecomesABoundedYawRate) {
+  VelocityPid pid(vparams());
+  VelocityPidInput in;
+  in.yaw_mode = YawMode::kHeading;
+  in.yaw_value = 0.3;
+  in.heading = 0.0;
+  auto t = pid.step(in);
+  EXPECT_DOUBLE_EQ(t.ff[2], 3 * 0.3);  // r_sp = 1.0 * 0.3
+  EXPECT_DOUBLE_EQ(t.setpoint[2], 0.3);
+  in.yaw_value = kPi - 0.1;  // across the wrap: the short way, -0.2 rad
+  in.heading = -kPi + 0.1;
+  t = pid.step(in);
+  EXPECT_NEAR(t.ff[2], 3 * -0.2, 1e-12);
+  in.yaw_value = 2.0;
+  in.heading = 0.0;
+  EXPECT_DOUBLE_EQ(pid.step(in).ff[2], 3 * 0.5);  // clamped at max_yaw_rate
+  in.yaw_mode = YawMode::kTorque;                 // manual torque passes through
+  in.yaw_value = 12.0;
+  EXPECT_DOUBLE_EQ(pid.step(in).out[2], 12.0);
+}
+
+TEST(VelocityPid, NonFiniteInputGivesZeroAndKeepsState) {
+  VelocityPid pid(vparams());
+  VelocityPidInput in;
+  in.u_sp = 1;
+  in.dt = 0.1;
+  pid.step(in);
+  in.u = NAN;
+  const auto t = pid.step(in);
+  for (double x : t.out) EXPECT_EQ(x, 0.0);
+  EXPECT_DOUBLE_EQ(pid.integral()[0], 0.4);
+}
+
+StationPidParams sparams() {
+  StationPidParams p;
+  p.x = {10, 2, 20, 5, 1000};
+  p.y = {12, 2, 24, 5, 1000};
+  p.yaw = {8, 1, 4, 3, 1000};
+  return p;
+}
+
+TEST(StationPid, ErrorInTheBodyFrame) {
+  StationPid pid(sparams());
+  StationPidInput in;
+  in.heading = kPi / 2;  // facing east
+  in.target_n = 1.0;     // target 1 m north: on the vehicle's left (-y)
+  in.target_e = 0.0;
+  in.target_heading = kPi / 2;
+  auto t = pid.step(in);
+  EXPECT_NEAR(t.p[0], 0.0, 1e-12);
+  EXPECT_NEAR(t.out[1], -12.0, 1e-12);
+  in.heading = 0;
+  in.target_n = 2;
+  in.target_e = 1;
+  in.target_heading = 0.25;
+  t = pid.step(in);
+  EXPECT_NEAR(t.out[0], 20.0, 1e-12);
+  EXPECT_NEAR(t.out[1], 12.0, 1e-12);
+  EXPECT_NEAR(t.out[2], 8 * 0.25, 1e-12);
+}
+
+TEST(StationPid, DerivativeOnMeasurementAndFiniteAtZero) {
+  StationPid pid(sparams());
+  StationPidInput in;  // at the target, still: exactly zero, finite
+  auto t = pid.step(in);
+  for (double x : t.out) EXPECT_EQ(x, 0.0);
+  in.u = 0.5;
+  in.r = -0.1;
+  t = pid.step(in);
+  EXPECT_DOUBLE_EQ(t.d[0], -20 * 0.5);
+  EXPECT_DOUBLE_EQ(t.out[2], 4 * 0.1);
+  // A target that jumps gives a proportional step only, no derivative kick.
+  in.u = 0;
+  in.r = 0;
+  in.target_n = 3;
+  t = pid.step(in);
+  EXPECT_DOUBLE_EQ(t.d[0], 0.0);
+  EXPECT_DOUBLE_EQ(t.out[0], 30.0);
+}
+
+TEST(StationPid, IntegralIsBoundedAndStaysFixedInTheWorld) {
+  StationPid pid(sparams());
+  StationPidInput in;
+  in.target_n = 1;  // 1 m ahead
+  in.dt = 0.1;
+  pid.step(in);
+  EXPECT_DOUBLE_EQ(pid.step(in).i[0], 2 * 1 * 0.1 * 2);
+  for (int k = 0; k < 1000; ++k) pid.step(in);
+  EXPECT_DOUBLE_EQ(pid.step(in).i[0], 5.0);  // bounded
+  // Turn the vehicle 90 deg right (east): the same world-frame force is now on its left.
+  in.heading = kPi / 2;
+  in.dt = 0;
+  in.target_n = 0;
+  const auto t = pid.step(in);
+  EXPECT_NEAR(t.i[0], 0.0, 1e-9);
+  EXPECT_NEAR(t.i[1], -5.0, 1e-9);
+}
+
+TEST(StationPid, WeathervaneTurnsTheBowAlongTheForce) {
+  auto p = sparams();
+  p.weathervane = true;
+  p.weathervane_min_force = 1;
+  p.reverse_radius = 1.0;
+  StationPid pid(p);
+  StationPidInput in;
+  in.target_e = 3;  // 3 m east, vehicle faces north
+  auto t = pid.step(in);
+  EXPECT_NEAR(t.setpoint[2], kPi / 2, 1e-12);
+  EXPECT_NEAR(t.out[0], 0.0, 1e-9);  // force is all sideways: turn first
+  EXPECT_DOUBLE_EQ(t.out[1], 0.0);   // no sway
+  EXPECT_GT(t.out[2], 0.0);          // turn right
+  in.target_e = 0;
+  in.target_n = -0.5;  // just behind, within reverse_radius: push astern, keep heading
+  t = pid.step(in);
+  EXPECT_NEAR(t.setpoint[2], 0.0, 1e-12);
+  EXPECT_LT(t.out[0], 0.0);
+}
+
+TEST(Arbiter, TheSeedsChoosePidRules) {
+  Arbiter a({controller_mode_t::MANUAL_OPEN_LOOP, 2.0, 0.5});
+  ArbiterInput in;
+  in.mode = controller_mode_t::MANUAL_OPEN_LOOP;
+  EXPECT_EQ(a.decide(in).source, wrench_t::SOURCE_MANUAL_DEMAND);
+  in.mode = controller_mode_t::MANUAL_CLOSED_LOOP;
+  auto d = a.decide(in);
+  EXPECT_EQ(d.source, wrench_t::SOURCE_VELOCITY_PID);
+  EXPECT_TRUE(d.changed);
+  in.mode = controller_mode_t::WAYPOINTING;
+  EXPECT_EQ(a.decide(in).source, wrench_t::SOURCE_NONE);  // no progress
+  in.progress_fresh = true;
+  in.path_active = true;
+  in.distance_to_goal = 1.0;
+  EXPECT_EQ(a.decide(in).source, wrench_t::SOURCE_VELOCITY_PID);  // near, but not complete
+  in.complete = true;
+  in.distance_to_goal = 2.3;
+  EXPECT_EQ(a.decide(in).source, wrench_t::SOURCE_VELOCITY_PID);  // complete, too far
+  in.distance_to_goal = 2.0;
+  d = a.decide(in);
+  EXPECT_EQ(d.source, wrench_t::SOURCE_STATION_KEEP);
+  EXPECT_TRUE(d.changed);
+  in.distance_to_goal = 2.4;  // hysteresis: stays
+  d = a.decide(in);
+  EXPECT_EQ(d.source, wrench_t::SOURCE_STATION_KEEP);
+  EXPECT_FALSE(d.changed);
+  in.distance_to_goal = 2.6;
+  EXPECT_EQ(a.decide(in).source, wrench_t::SOURCE_VELOCITY_PID);
+  in.distance_to_goal = 2.4;  // coming back in: needs 2.0 again
+  EXPECT_EQ(a.decide(in).source, wrench_t::SOURCE_VELOCITY_PID);
+  in.progress_fresh = false;  // follower gone: neutral
+  EXPECT_EQ(a.decide(in).source, wrench_t::SOURCE_NONE);
+}
+
+TEST(ControlConfig, ShippedFilesLoadStrictly) {
+  for (const char* f : {"config/control/otter.yaml"}) {
+    const auto path = std::string(TILLER_SOURCE_DIR) + "/" + f;
+    const auto v = load_velocity_pid_node_params(config::Value::load_file(path));
+    const auto s = load_station_keep_node_params(config::Value::load_file(path));
+    EXPECT_DOUBLE_EQ(v.arbiter.station_radius, 2.0) << f;
+    EXPECT_GT(s.pid.x.kp, 0) << f;
+  }
+  const auto bad = config::Value::parse(
+      "velocity_pid: {}\narbiter: {default_mode: sideways, station_radius: 2, hysteresis: 0}\n",
+      "bad.yaml");
+  try {
+    load_arbiter_params(bad.at("arbiter"));
+    FAIL();
+  } catch (const config::Error& e) {
+    EXPECT_NE(std::string(e.what()).find("default_mode"), std::string::npos);
+  }
+}
+
+}  // namespace
+}  // namespace tiller::control

@@ -1,0 +1,288 @@
+// The seed-004 command-velocity generator: every behaviour against hand-computed values.
+#include <gtest/gtest.h>
+
+#include <cmath>
+
+#include "core/config.hpp"
+#include "guidance/follower_config.hpp"
+#include "guidance/path_follower.hpp"
+
+namespace tiller::guidance {
+namespace {
+
+// Seed-like parameters with round numbers (the hand computations below use them).
+FollowerParams seed_params() {
+  FollowerParams p;
+  p.max_speed = 1.5;
+  p.acceptance_radius = 1.0;
+  p.corner_cut_radius = 1.0;
+  p.min_segment_length = 0.05;
+  p.approach_max_speed = 1.0;
+  p.approach_divisor_s = 2.0;
+  p.parallel_cutoff_distance = 5.0;
+  p.turn_slowdown_distance = 5.0;
+  p.turn_reduction = 0.8;
+  p.turn_min_fraction = 0.2;
+  p.end_slowdown = EndSlowdown::kLinear;
+  p.end_slowdown_distance = 6.0;
+  p.end_divisor_s = 2.0;
+  p.braking_decel = 0.25;
+  p.heading_slowdown_angle = kPi / 2;
+  p.goal_heading_distance = 2.0;
+  p.law = CrossTrackLaw::kSeed;
+  return p;
+}
+
+std::vector<Waypoint> pts(std::initializer_list<std::pair<double, double>> l) {
+  std::vector<Waypoint> v;
+  for (auto [n, e] : l) {
+    Waypoint w;
+    w.position = Vec2(n, e);
+    v.push_back(w);
+  }
+  return v;
+}
+
+TEST(PathFollower, VectorSumTowardAndAlongThePath) {
+  PathFollower f(seed_params());
+  ASSERT_TRUE(f.set_path(pts({{0, 0}, {20, 0}}), Vec2(2, 1), 0.0, false));
+  // 1 m east (right) of a path going north, 18 m from the end.
+  const auto o = f.update(Vec2(2, 1), 0.0, 0.1);
+  EXPECT_EQ(o.segment, 0);
+  EXPECT_EQ(o.relation, SegmentRelation::kMiddle);
+  EXPECT_DOUBLE_EQ(o.cross_track, 1.0);
+  EXPECT_DOUBLE_EQ(o.along_track_remaining, 18.0);
+  EXPECT_DOUBLE_EQ(o.approach_speed, 0.5);     // 1 m / 2 s
+  EXPECT_DOUBLE_EQ(o.along_speed, 1.5 * 0.8);  // 1 - 1/5 of max speed
+  // Target heading along (1.2, -0.5); heading error reduces the speed linearly to 0 at 90 deg.
+  const double psi = std::atan2(-0.5, 1.2);
+  EXPECT_NEAR(o.target_heading, psi, 1e-12);
+  const double k = 1.0 - std::abs(psi) / (kPi / 2);
+  EXPECT_NEAR(o.heading_factor, k, 1e-12);
+  EXPECT_NEAR(o.velocity.x(), 1.2 * k, 1e-12);
+  EXPECT_NEAR(o.velocity.y(), -0.5 * k, 1e-12);
+}
+
+TEST(PathFollower, FarFromThePathOnlyTheApproachTermRemains) {
+  PathFollower f(seed_params());
+  f.set_path(pts({{0, 0}, {50, 0}}), Vec2(10, -7), kPi / 2, false);
+  const auto o = f.update(Vec2(10, -7), kPi / 2, 0.1);  // 7 m left, facing east (toward the path)
+  EXPECT_DOUBLE_EQ(o.cross_track, -7.0);
+  EXPECT_DOUBLE_EQ(o.along_speed, 0.0);
+  EXPECT_DOUBLE_EQ(o.approach_speed, 1.0);  // capped
+  EXPECT_NEAR(o.velocity.x(), 0.0, 1e-12);
+  EXPECT_NEAR(o.velocity.y(), 1.0, 1e-12);
+}
+
+TEST(PathFollower, BehindMiddleInFrontByDotProducts) {
+  PathFollower f(seed_params());
+  f.set_path(pts({{0, 0}, {10, 0}, {10, 10}}), Vec2(0, 0), 0, false);
+  EXPECT_EQ(f.update(Vec2(-2, 0.5), 0, 0).relation, SegmentRelation::kBehind);
+  EXPECT_EQ(f.update(Vec2(-2, 0.5), 0, 0).segment, 0);  // behind: keeps the segment
+  EXPECT_EQ(f.update(Vec2(5, 3), 0, 0).relation, SegmentRelation::kMiddle);
+  // In front of segment 0 (passed (10,0) 3 m away): moves on; middle of segment 1.
+  const auto o = f.update(Vec2(12, 3), 0, 0);
+  EXPECT_EQ(o.segment, 1);
+  EXPECT_EQ(o.relation, SegmentRelation::kMiddle);
+  EXPECT_EQ(o.skipped, 1);
+}
+
+TEST(PathFollower, SkipsEveryPassedPointInOneUpdate) {
+  PathFollower f(seed_params());
+  f.set_path(pts({{0, 0}, {5, 0}, {10, 0}, {15, 0}, {20, 0}}), Vec2(0, 0), 0, false);
+  const auto o = f.update(Vec2(16, 2), 0, 0);
+  EXPECT_EQ(o.segment, 3);
+  EXPECT_EQ(o.skipped, 3);  // (5,0), (10,0), (15,0): never within 1 m
+  EXPECT_FALSE(o.complete);
+}
+
+TEST(PathFollower, WithinAcceptanceRadiusThePointIsReachedNotSkipped) {
+  PathFollower f(seed_params());
+  f.set_path(pts({{0, 0}, {10, 0}, {10, 10}}), Vec2(0, 0), 0, false);
+  const auto o = f.update(Vec2(9.5, 0.2), 0, 0);
+  EXPECT_EQ(o.segment, 1);
+  EXPECT_EQ(o.skipped, 0);
+  const auto o2 = f.update(Vec2(9.0, 0.2), 0, 0);  // does not go back
+  EXPECT_EQ(o2.segment, 1);
+}
+
+TEST(PathFollower, LooksAheadToCutTheCorner) {
+  auto p = seed_params();
+  p.acceptance_radius = 0.5;
+  p.corner_cut_radius = 1.0;
+  PathFollower f(p);
+  f.set_path(pts({{0, 0}, {10, 0}, {10, 10}}), Vec2(0, 0), 0, false);
+  EXPECT_EQ(f.update(Vec2(8.9, 0), 0, 0).segment, 0);  // 1.1 m: not yet
+  const auto o = f.update(Vec2(9.3, -0.3), 0, 0);      // 0.76 m: follow the next segment
+  EXPECT_EQ(o.segment, 1);
+  EXPECT_EQ(o.skipped, 0);
+  EXPECT_EQ(o.relation, SegmentRelation::kBehind);  // behind the next segment, as the seed says
+}
+
+TEST(PathFollower, SlowsDownForTurns) {
+  PathFollower f(seed_params());
+  f.set_path(pts({{0, 0}, {10, 0}, {10, 10}}), Vec2(0, 0), 0, false);
+  const auto far = f.update(Vec2(4, 0), 0, 0);  // 6 m from the turn: no slow-down
+  EXPECT_DOUBLE_EQ(far.turn_factor, 1.0);
+  EXPECT_DOUBLE_EQ(far.along_speed, 1.5);
+  const auto o = f.update(Vec2(7, 0), 0, 0);  // 3 m from a 90 deg turn
+  EXPECT_DOUBLE_EQ(o.turn_factor, 1.0 - 0.8 * 0.5);
+  EXPECT_DOUBLE_EQ(o.along_speed, 1.5 * 0.6);
+  EXPECT_NEAR(o.velocity.x(), 0.9, 1e-12);
+  EXPECT_DOUBLE_EQ(f.turn_factor(kPi), 0.2);  // hairpin: floor
+}
+
+TEST(PathFollower, EndSlowDownLinearAsTheSeedAndConstantDeceleration) {
+  auto p = seed_params();
+  PathFollower lin(p);
+  EXPECT_DOUBLE_EQ(lin.end_speed(7.0), 1.5);  // before the slow-down distance
+  EXPECT_DOUBLE_EQ(lin.end_speed(2.0), 1.0);  // 2 m / 2 s
+  EXPECT_DOUBLE_EQ(lin.end_speed(0.5), 0.25);
+  p.end_slowdown = EndSlowdown::kConstantDecel;
+  PathFollower cd(p);
+  EXPECT_DOUBLE_EQ(cd.end_speed(10.0), 1.5);         // sqrt(5) capped
+  EXPECT_DOUBLE_EQ(cd.end_speed(2.0), 1.0);          // sqrt(2 * 0.25 * 2)
+  EXPECT_DOUBLE_EQ(cd.end_speed(0.5), 0.5);          // sqrt(2 * 0.25 * 0.5)
+  EXPECT_GT(cd.end_speed(1.0), lin.end_speed(1.0));  // holds speed longer
+  // Through update(): 3 m left of a 10 m path, linear: 1.5 m/s; 2 m left: 1.0 m/s.
+  lin.set_path(pts({{0, 0}, {10, 0}}), Vec2(0, 0), 0, false);
+  EXPECT_DOUBLE_EQ(lin.update(Vec2(8, 0), 0, 0).velocity.x(), 1.0);
+}
+
+TEST(PathFollower, HeadingErrorReducesSpeedUnlessTranslating) {
+  PathFollower f(seed_params());
+  f.set_path(pts({{0, 0}, {20, 0}}), Vec2(2, 0), kPi / 2, false);
+  const auto o = f.update(Vec2(2, 0), kPi / 2, 0);  // facing east, path goes north
+  EXPECT_DOUBLE_EQ(o.heading_factor, 0.0);
+  EXPECT_DOUBLE_EQ(o.velocity.norm(), 0.0);
+  EXPECT_DOUBLE_EQ(o.target_heading, 0.0);  // turn toward the path direction first
+  const auto o45 = f.update(Vec2(2, 0), kPi / 4, 0);
+  EXPECT_NEAR(o45.velocity.x(), 0.75, 1e-12);
+
+  PathFollower t(seed_params());
+  t.set_path(pts({{0, 0}, {20, 0}}), Vec2(2, 0), kPi / 2, true);  // is_translation
+  const auto ot = t.update(Vec2(2, 0), kPi / 2, 0);
+  EXPECT_DOUBLE_EQ(ot.velocity.x(), 1.5);
+  EXPECT_DOUBLE_EQ(ot.target_heading, kPi / 2);  // holds its heading (no goal heading)
+}
+
+TEST(PathFollower, GoalHeadingNearTheGoal) {
+  PathFollower f(seed_params());
+  auto p = pts({{0, 0}, {10, 0}, {10, 10}});
+  p.back().has_heading = true;
+  p.back().heading = -kPi / 2;
+  f.set_path(p, Vec2(0, 0), 0, false);
+  f.update(Vec2(9.5, 0), 0, 0);
+  EXPECT_NEAR(f.update(Vec2(10, 5), kPi / 2, 0).target_heading, kPi / 2, 1e-12);
+  const auto o = f.update(Vec2(10, 8.5), kPi / 2, 0);  // 1.5 m from the goal
+  EXPECT_DOUBLE_EQ(o.target_heading, -kPi / 2);
+  EXPECT_DOUBLE_EQ(o.heading_factor, 1.0);  // no slow-down for the goal heading
+}
+
+TEST(PathFollower, CompletesAtTheLastPointAndThenHeadsForTheGoal) {
+  PathFollower f(seed_params());
+  f.set_path(pts({{0, 0}, {10, 0}}), Vec2(0, 0), 0, false);
+  EXPECT_FALSE(f.update(Vec2(8.5, 0), 0, 0).complete);
+  const auto o = f.update(Vec2(9.5, 0), 0, 0);
+  EXPECT_TRUE(o.complete);
+  EXPECT_EQ(o.segment, 1);
+  EXPECT_DOUBLE_EQ(o.distance_to_goal, 0.5);
+  EXPECT_NEAR(o.velocity.x(), 0.25, 1e-12);  // linear end law: 0.5 m / 2 s, toward the goal
+  // Overshoots: still complete, turns around (heading factor 0 while facing away), comes back.
+  EXPECT_DOUBLE_EQ(f.update(Vec2(11, 0), 0, 0).velocity.norm(), 0.0);
+  const auto o2 = f.update(Vec2(11, 0), kPi, 0);
+  EXPECT_TRUE(o2.complete);
+  EXPECT_LT(o2.velocity.x(), 0.0);
+}
+
+TEST(PathFollower, PassingTheLastPointCompletesTheCourse) {
+  PathFollower f(seed_params());
+  f.set_path(pts({{0, 0}, {10, 0}}), Vec2(0, 0), 0, false);
+  const auto o = f.update(Vec2(11, 3), 0, 0);
+  EXPECT_TRUE(o.complete);
+  EXPECT_EQ(o.skipped, 1);
+}
+
+TEST(PathFollower, BadPaths) {
+  PathFollower f(seed_params());
+  // Repeated points and zero-length segments are merged.
+  ASSERT_TRUE(
+      f.set_path(pts({{0, 0}, {0, 0}, {10, 0}, {10, 0}, {10, 0.01}}), Vec2(0, 0), 0, false));
+  EXPECT_EQ(f.points().size(), 2u);
+  const auto o = f.update(Vec2(5, 0), 0, 0.1);
+  EXPECT_TRUE(o.velocity.allFinite());
+  EXPECT_DOUBLE_EQ(o.velocity.x(), 1.5);
+  // One point: a segment from where the vehicle is.
+  ASSERT_TRUE(f.set_path(pts({{10, 0}}), Vec2(0, 0), 0, false));
+  ASSERT_EQ(f.points().size(), 2u);
+  EXPECT_EQ(f.points()[0].position, Vec2(0, 0));
+  EXPECT_DOUBLE_EQ(f.update(Vec2(3, 0), 0, 0).velocity.x(), 1.5);
+  // One point where the vehicle already is: complete at once, finite output.
+  ASSERT_TRUE(f.set_path(pts({{1, 1}}), Vec2(1, 1), 0, false));
+  const auto c = f.update(Vec2(1, 1), 0, 0);
+  EXPECT_TRUE(c.complete);
+  EXPECT_TRUE(c.velocity.allFinite());
+  EXPECT_DOUBLE_EQ(c.velocity.norm(), 0.0);
+  // All points the same: one point.
+  ASSERT_TRUE(f.set_path(pts({{3, 3}, {3, 3}, {3, 3}}), Vec2(0, 0), 0, false));
+  EXPECT_EQ(f.points().size(), 2u);
+  // Nothing: idle. NaN points are ignored.
+  EXPECT_FALSE(f.set_path({}, Vec2(0, 0), 0, false));
+  EXPECT_FALSE(f.update(Vec2(0, 0), 0, 0).active);
+  EXPECT_FALSE(f.set_path(pts({{NAN, 0}}), Vec2(0, 0), 0, false));
+  // NaN vehicle state: inactive output, no NaN out.
+  f.set_path(pts({{0, 0}, {10, 0}}), Vec2(0, 0), 0, false);
+  const auto n = f.update(Vec2(NAN, 0), 0, 0);
+  EXPECT_FALSE(n.active);
+  EXPECT_TRUE(n.velocity.allFinite());
+}
+
+// A vehicle that does exactly what it is told, plus a current across the path: the seed's law
+// settles where the approach speed cancels the current (e/2 = 0.26 m/s -> 0.52 m off the path);
+// the integral law removes the offset.
+double standing_offset(CrossTrackLaw law) {
+  auto p = seed_params();
+  p.law = law;
+  p.integral_gain = 0.05;
+  p.integral_limit = 0.5;
+  p.integral_zone = 3.0;
+  PathFollower f(p);
+  f.set_path(pts({{0, 0}, {1000, 0}}), Vec2(0, 0), 0, false);
+  Vec2 x(0, 0);
+  const Vec2 current(0, 0.26);
+  double heading = 0;
+  FollowerOutput o;
+  for (int k = 0; k < 3000; ++k) {  // 300 s at 10 Hz
+    o = f.update(x, heading, 0.1);
+    heading = o.target_heading;
+    x += (o.velocity + current) * 0.1;
+  }
+  return o.cross_track;
+}
+
+TEST(PathFollower, IntegralLawRemovesTheStandingOffsetOfACrossCurrent) {
+  EXPECT_NEAR(standing_offset(CrossTrackLaw::kSeed), 0.52, 0.01);
+  EXPECT_LT(std::abs(standing_offset(CrossTrackLaw::kIntegral)), 0.02);
+}
+
+TEST(FollowerConfig, LoadsTheShippedFilesStrictly) {
+  for (const char* f : {"config/guidance/default.yaml", "config/guidance/seed.yaml"}) {
+    const auto root = config::Value::load_file(std::string(TILLER_SOURCE_DIR) + "/" + f);
+    const auto p = load_follower_node_params(root);
+    EXPECT_NO_THROW(root.check_all_used()) << f;
+    EXPECT_DOUBLE_EQ(p.follower.acceptance_radius, 1.0);
+    EXPECT_NEAR(p.follower.heading_slowdown_angle, kPi / 2, 1e-12);
+  }
+  const auto bad = config::Value::parse(
+      "rate_hz: 10\nodometry_timeout_s: 0.5\nfollower: {max_speed: 1}\n", "bad.yaml");
+  try {
+    load_follower_node_params(bad);
+    FAIL() << "expected a config error";
+  } catch (const config::Error& e) {
+    EXPECT_NE(std::string(e.what()).find("bad.yaml"), std::string::npos);
+    EXPECT_NE(std::string(e.what()).find("acceptance_radius"), std::string::npos);
+  }
+}
+
+}  // namespace
+}  // namespace tiller::guidance
