@@ -1,0 +1,134 @@
+// tiller-teleop as a real process over LCM in a private network namespace, its joystick a FIFO:
+// stick events reach TILLER_MANUAL_DEMAND at once (well before the next 50 Hz tick would),
+// the arm button gives one TILLER_ARM_REQUEST, closing the FIFO's writer gives a neutral,
+// invalid demand and a DEGRADED heartbeat, reopening it resumes only after centring, and
+// SIGTERM ends the process with status 0.
+#include <gtest/gtest.h>
+#include <lcm/lcm-cpp.hpp>
+
+#include <functional>
+
+#include <tiller/arm_request_t.hpp>
+#include <tiller/heartbeat_t.hpp>
+#include <tiller/joystick_state_t.hpp>
+#include <tiller/manual_demand_t.hpp>
+
+#include "../e2e/e2e_util.hpp"
+
+namespace tiller::e2e {
+namespace {
+
+struct Rx {
+  void on_demand(const lcm::ReceiveBuffer*, const std::string&, const manual_demand_t* m) {
+    demand = *m;
+    demand_t = realtime_us();
+    ++n_demand;
+  }
+  void on_arm(const lcm::ReceiveBuffer*, const std::string&, const arm_request_t* m) {
+    arm = *m;
+    ++n_arm;
+  }
+  void on_js(const lcm::ReceiveBuffer*, const std::string&, const joystick_state_t* m) { js = *m; }
+  void on_hb(const lcm::ReceiveBuffer*, const std::string&, const heartbeat_t* m) { hb = *m; }
+  manual_demand_t demand{};
+  std::int64_t demand_t = 0;
+  int n_demand = 0, n_arm = 0;
+  arm_request_t arm{};
+  joystick_state_t js{};
+  heartbeat_t hb{};
+};
+
+bool pump_until(lcm::LCM& l, const std::function<bool()>& pred, double seconds) {
+  const std::int64_t end = realtime_us() + static_cast<std::int64_t>(seconds * 1e6);
+  while (realtime_us() < end) {
+    if (pred()) return true;
+    l.handleTimeout(5);
+  }
+  return pred();
+}
+
+TEST(TeleopLive, FifoStickThroughTheRealProcess) {
+  lcm::LCM l(kUrl);
+  ASSERT_TRUE(l.good()) << "LCM not available: run under tools/netns-run";
+  Rx rx;
+  l.subscribe("TILLER_MANUAL_DEMAND", &Rx::on_demand, &rx);
+  l.subscribe("TILLER_ARM_REQUEST", &Rx::on_arm, &rx);
+  l.subscribe("TILLER_JOYSTICK", &Rx::on_js, &rx);
+  l.subscribe("TILLER_HEARTBEAT_TELEOP", &Rx::on_hb, &rx);
+  FifoStick stick("/tmp/tiller_teleop_live_js_" + std::to_string(getpid()));
+  Proc teleop(
+      std::string(TILLER_BIN_DIR) + "/tiller-teleop",
+      {"--config", std::string(TILLER_SOURCE_DIR) + "/config/teleop/extreme3dpro_seed000.yaml",
+       "--device", stick.path(), "--lcm-url", kUrl});
+
+  ASSERT_TRUE(pump_until(
+      l, [&] { return rx.hb.utime != 0 && rx.n_demand > 3; }, 5.0));
+  EXPECT_EQ(rx.hb.state, heartbeat_t::STATE_DEGRADED);
+  EXPECT_NE(rx.hb.status.find("joystick absent"), std::string::npos) << rx.hb.status;
+  EXPECT_FALSE(rx.demand.valid);
+
+  stick.plug();
+  stick.init({0, 0, 0, 32767, 0, 0});
+  ASSERT_TRUE(pump_until(
+      l, [&] { return rx.demand.valid; }, 3.0));
+  EXPECT_TRUE(rx.js.connected);
+  EXPECT_EQ(rx.js.n_axes, 6);
+  EXPECT_EQ(rx.js.n_buttons, 12);
+
+  stick.axis(1, -32767);
+  ASSERT_TRUE(pump_until(
+      l, [&] { return rx.demand.demand[0] == 1.0; }, 2.0));
+  EXPECT_EQ(rx.demand.demand[1], 0.0);
+  stick.axis(1, 0);
+  ASSERT_TRUE(pump_until(
+      l, [&] { return rx.demand.demand[0] == 0.0; }, 2.0));
+
+  stick.button(6, true);
+  sleep_ms(100);
+  stick.button(6, false);
+  ASSERT_TRUE(pump_until(
+      l, [&] { return rx.n_arm == 1; }, 2.0));
+  EXPECT_TRUE(rx.arm.arm);
+  EXPECT_EQ(rx.arm.source, "teleop");
+  pump_until(
+      l, [] { return false; }, 0.2);
+  EXPECT_EQ(rx.n_arm, 1);
+
+  // Pull the plug while held forward: a neutral invalid demand follows (not waiting for a tick).
+  stick.axis(1, -32767);
+  ASSERT_TRUE(pump_until(
+      l, [&] { return rx.demand.demand[0] == 1.0; }, 2.0));
+  stick.unplug();
+  ASSERT_TRUE(pump_until(
+      l, [&] { return !rx.demand.valid; }, 2.0));
+  EXPECT_EQ(rx.demand.demand[0], 0.0);
+  ASSERT_TRUE(pump_until(
+      l, [&] { return rx.hb.state == heartbeat_t::STATE_DEGRADED && !rx.js.connected; }, 2.5));
+
+  // Plug back with the stick held: stays invalid until centred.
+  stick.plug();
+  stick.init({0, -32767, 0, 32767, 0, 0});
+  ASSERT_TRUE(pump_until(
+      l, [&] { return rx.js.connected; }, 3.0));
+  pump_until(
+      l, [] { return false; }, 0.3);
+  EXPECT_FALSE(rx.demand.valid);
+  EXPECT_EQ(rx.demand.demand[0], 0.0);
+  stick.axis(1, 0);
+  ASSERT_TRUE(pump_until(
+      l, [&] { return rx.demand.valid; }, 2.0));
+  stick.axis(1, -32767);
+  ASSERT_TRUE(pump_until(
+      l, [&] { return rx.demand.demand[0] == 1.0; }, 2.0));
+  ASSERT_TRUE(pump_until(
+      l, [&] { return rx.hb.state == heartbeat_t::STATE_OK; }, 2.5))
+      << rx.hb.status;
+
+  EXPECT_TRUE(teleop.running());
+  const int status = teleop.stop();
+  EXPECT_TRUE(WIFEXITED(status));
+  EXPECT_EQ(WEXITSTATUS(status), 0);
+}
+
+}  // namespace
+}  // namespace tiller::e2e
