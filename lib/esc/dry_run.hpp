@@ -1,0 +1,49 @@
+// The dry-run transport: prints every I2C transaction the real backend would make, and answers
+// from the fake device models (esc/fake/fake_i2c.hpp), so a dry run goes through exactly the
+// code that drives hardware. Lines look like
+//   dry-run 1.230000 s 0x29 write 00 7f ff
+//   dry-run 1.230000 s 0x40 write-read fe -> 79
+// With every_cycle = false a transaction is printed only when its bytes differ from the last
+// transaction to the same address and register (a steady throttle prints once).
+#pragma once
+
+#include <array>
+#include <cstdio>
+#include <memory>
+#include <vector>
+
+#include "esc/fake/fake_i2c.hpp"
+#include "esc/transport.hpp"
+
+namespace tiller::esc {
+
+class DryRunTransport : public I2cTransport {
+ public:
+  DryRunTransport(std::FILE* out, bool every_cycle);
+  int write(std::uint8_t addr, const std::uint8_t* data, std::size_t n) override;
+  int write_read(std::uint8_t addr, const std::uint8_t* w, std::size_t wn, std::uint8_t* r,
+                 std::size_t rn) override;
+  void wait_us(std::int64_t us) override;
+  void set_time(TimeUs now) override;
+  std::string name() const override { return "dry-run"; }
+
+  // The models answering (a tgy ESC or a PCA9685 is attached at each configured address).
+  fake::FakeI2cBus& models() { return bus_; }
+  void add_tgy(std::uint8_t addr);
+  void add_pca9685(std::uint8_t addr);
+
+ private:
+  bool changed(std::uint8_t addr, const std::uint8_t* d, std::size_t n);
+  void print(std::uint8_t addr, const char* what, const std::uint8_t* w, std::size_t wn,
+             const std::uint8_t* r, std::size_t rn, int err);
+  std::FILE* out_;
+  bool every_cycle_;
+  TimeUs now_ = 0;
+  fake::FakeI2cBus bus_{"dry-run"};
+  std::vector<std::unique_ptr<fake::Device>> devices_;
+  // Last bytes written per (address, first byte = register), 8 bytes each.
+  std::array<std::array<std::uint8_t, 9>, 128 * 4> last_{};
+  std::array<std::uint8_t, 128 * 4> last_reg_{};
+};
+
+}  // namespace tiller::esc

@@ -1,0 +1,115 @@
+// tiller::EscNode: the ESC bus driver's logic (tiller-esc), the one authority on arming.
+//
+// Inputs: TILLER_THRUSTER_COMMAND (thruster_command_t, normalised [-1, 1] per thruster name,
+// + = pushes along the thruster's direction) and TILLER_ARM_REQUEST (arm_request_t).
+// Every cycle (rate_hz, default 100 Hz) it computes one normalised motor value per ESC and
+// hands it to a backend (esc/backend.hpp) that writes the hardware value (int16 throttle or
+// pulse us) on the bus:
+//   * disarmed (the start state), or no fresh command for command_timeout (default 250 ms):
+//     neutral, and neutral keeps being written so the ESCs stay alive and armed;
+//   * armed: command -> motor = (reversed ? -1 : 1) * trim * command, then the optional slew
+//     limit (slew_per_s); on a reversal the ramp stops at exactly zero for one cycle before
+//     continuing the other way. Disarm, timeout and shutdown go to neutral at once (no ramp).
+// Arming: an arm request arms only while the commands are neutral (|u| <= tolerance for every
+// thruster, or no fresh command); a disarm request always disarms. With disarm_on_timeout the
+// command timeout also disarms.
+// Outputs: TILLER_ESC_OUTPUT every cycle (what went on the bus, hardware units, and the same
+// value mapped back to normalised motor units), TILLER_ARM_STATE on change and at 10 Hz,
+// TILLER_ESC_STATUS and TILLER_ESC_TELEMETRY at 10 Hz. shutdown() writes neutral to every ESC.
+// A cycle allocates nothing.
+#pragma once
+
+#include <memory>
+#include <string>
+#include <vector>
+
+#include <tiller/arm_request_t.hpp>
+#include <tiller/arm_state_t.hpp>
+#include <tiller/esc_bus_status_t.hpp>
+#include <tiller/esc_output_t.hpp>
+#include <tiller/esc_telemetry_t.hpp>
+#include <tiller/thruster_command_t.hpp>
+
+#include "esc/backend.hpp"
+#include "esc/esc_config.hpp"
+#include "runtime/node.hpp"
+
+namespace tiller {
+
+class EscNode : public Node {
+ public:
+  EscNode(esc::EscNodeParams p, std::unique_ptr<esc::EscBackend> backend);
+  // Loads a config file and builds its backend (sim; dry_run prints to stdout; i2c_tgy and
+  // pca9685 open the configured /dev/i2c-N).
+  explicit EscNode(const std::string& config_path);
+  // Same, but the hardware backends use `transport` (e.g. the fake bus in tests).
+  EscNode(const std::string& config_path, esc::I2cTransport& transport);
+  ~EscNode() override;
+
+  // Initialises the devices and writes neutral. Called by on_tick if nobody did; the app calls
+  // it first to refuse to start when an ESC is missing and the config says so.
+  esc::StartReport start(TimeUs now);
+  // Writes neutral to every ESC and disarms (SIGINT/SIGTERM).
+  void shutdown(TimeUs now) override;
+
+  bool armed() const { return armed_; }
+  bool command_fresh() const { return command_fresh_; }
+  const esc::EscBackend& backend() const { return *backend_; }
+  const esc_output_t& last_output() const { return out_; }
+  const esc::EscNodeParams& params() const { return p_; }
+  std::int64_t timeouts() const { return timeouts_; }
+
+ protected:
+  void on_tick(TimeUs now) override;
+
+ private:
+  EscNode(const esc::EscConfig& cfg, esc::I2cTransport* transport);
+  void init_messages();
+  void on_command(const thruster_command_t& m, TimeUs now);
+  void on_arm_request(const arm_request_t& m, TimeUs now);
+  bool commands_neutral(TimeUs now, std::size_t* worst);
+  void set_armed(bool armed, const std::string& reason, TimeUs now);
+  void publish_arm_state(TimeUs now);
+  void write_cycle(TimeUs now, bool force_neutral);
+  void publish_status(TimeUs now);
+  void publish_telemetry(TimeUs now);
+  void update_health();
+
+  esc::EscNodeParams p_;
+  std::unique_ptr<esc::EscBackend> backend_;
+  std::size_t n_;
+  bool started_ = false;
+  esc::StartReport start_report_;
+
+  // Latest accepted command, per ESC index, and its freshness.
+  std::vector<double> command_;
+  Freshness command_freshness_;
+  bool command_fresh_ = false;
+  std::vector<std::string> cached_names_;  // names of the last command message
+  std::vector<int> cached_map_;            // message index -> ESC index
+
+  bool armed_ = false;
+  std::vector<double> motor_;  // current (slewed) normalised motor value per ESC
+  std::vector<std::int32_t> hw_;
+  TimeUs last_cycle_ = 0;
+  bool have_cycle_ = false;
+  TimeUs next_10hz_ = 0;
+  std::int64_t cycles_ = 0;
+  std::int64_t timeouts_ = 0;
+  std::int64_t last_stale_events_ = 0;
+  int health_code_ = -1;
+
+  esc_output_t out_;
+  arm_state_t arm_;
+  esc_bus_status_t status_;
+  esc_telemetry_t telem_;
+
+  std::int64_t* c_nan_;
+  std::int64_t* c_range_;
+  std::int64_t* c_missing_;
+  std::int64_t* c_unknown_;
+  std::int64_t* c_arm_refused_;
+  std::int64_t* c_bus_errors_;
+};
+
+}  // namespace tiller
