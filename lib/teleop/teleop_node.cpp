@@ -113,6 +113,7 @@ void TeleopNode::process(const joystick_state_t& s, TimeUs now) {
     raw_since_.assign(nb, now);
     update_health();
   } else {
+    update_buttons(now);  // a change stable for the debounce time counts even if it ends now
     if (raw_buttons_.size() < nb) {
       raw_buttons_.resize(nb, false);
       stable_.resize(nb, false);

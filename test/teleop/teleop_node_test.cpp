@@ -219,6 +219,32 @@ TEST(Buttons, HeldAtPlugInDoesNotArm) {
   EXPECT_EQ(req[0].first, ms(1440));  // the fresh press at 1400, not the INIT state at 1000
 }
 
+TEST(Buttons, PressLongerThanDebounceEndingBetweenTicksCounts) {
+  Rig r(load_teleop_file(config_path("extreme3dpro_seed000.yaml")));  // 30 ms, ticks every 20
+  auto& s = r.state;
+  s.n_axes = 6;
+  s.axes = {0, 0, 0, 0, 0, 0};
+  s.n_buttons = 12;
+  s.buttons.assign(12, false);
+  s.connected = true;
+  r.feed(ms(1000));
+  s.buttons[6] = true;
+  r.feed(ms(1001));
+  s.buttons[6] = false;
+  r.feed(ms(1035));  // held 34 ms; the ticks at 1020 saw only 19 ms
+  r.run_until(ms(1200));
+  const auto req = r.all<arm_request_t>(channels::kArmRequest);
+  ASSERT_EQ(req.size(), 1u);
+  EXPECT_EQ(req[0].first, ms(1035));
+  // 29 ms is a bounce.
+  s.buttons[6] = true;
+  r.feed(ms(1301));
+  s.buttons[6] = false;
+  r.feed(ms(1330));
+  r.run_until(ms(1500));
+  EXPECT_EQ(r.all<arm_request_t>(channels::kArmRequest).size(), 1u);
+}
+
 TEST(Buttons, GainStepsModesAndTranslation) {
   TeleopParams p = load_teleop_file(config_path("extreme3dpro_seed000.yaml"));
   p.debounce = 0;
