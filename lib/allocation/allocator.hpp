@@ -1,0 +1,130 @@
+// Thrust allocation: demanded wrench tau = [X Y Z K M N] (N, N m, body FRD, about the CG) ->
+// thrust per thruster (N along its direction) -> thruster command in [-1, 1] through the
+// inverse thrust curve. No LCM, no clock; nothing on the call path allocates.
+//
+// Built once per vehicle (everything that can be precomputed is):
+//   * B, the 6 x n effectiveness matrix, from the geometry (Vehicle::effectiveness()).
+//   * Actuated axes: greedy by rank in the order X, Y, Z, N, M, K. An axis whose row of B is a
+//     combination of rows already taken is reported unactuated (a USV: Z, K, M; the 4-thruster
+//     ROV also K and M, which its horizontal thrusters only produce as side effects). Nothing
+//     singular is ever inverted.
+//   * Independent thruster groups (the `group` of each thruster): each group owns the actuated
+//     axes on which it adds rank, and gets its own pseudo-inverse over them. A group whose
+//     thrust also acts on another group's axes (the ROV's horizontal thrusters pitch it because
+//     they sit below the CG) is solved first, and the later group compensates what it actually
+//     did. Two groups acting independently on one axis, or on each other's axes, are refused.
+// Strategies (Vehicle::allocation.strategy), all within each thruster's own forward/reverse
+// limits (reversal included):
+//   direction_preserving  per group, the largest scale <= 1 of the group's demand that fits:
+//                         the achieved wrench on the group's axes = scale * demand (seeds 001
+//                         and 004: groups scaled independently, only when something exceeds);
+//   prioritised           per group, axis levels in the configured order are added one by one,
+//                         each as far as the remaining room allows: earlier levels are met
+//                         exactly whenever they fit on their own;
+//   clip                  unconstrained solution clipped per thruster (for comparison only).
+// Explicit-matrix vehicles (seed tables): command u = M * tau_norm with tau_norm_j =
+// tau_j / full_scale_j (full_scale: the wrench one unit of axis j gives, from the geometry);
+// ratio-keeping normalisation per group when some |u| > 1. The achieved wrench is still B *
+// thrust from the geometry, so a table that does not match the hull shows in the status.
+// Manual open-loop demand (allocate_manual): seed 000's two conditions, per group: the achieved
+// wrench on the group's axes points along the stick vector J (each axis weighted by its own
+// largest achievable value in that sign), and its size over the largest achievable in that
+// direction equals |J| over the largest stick vector in that direction (= max_k |J_k|).
+#pragma once
+
+#include <array>
+#include <limits>
+#include <string>
+#include <vector>
+
+#include <Eigen/Core>
+
+#include "vehicle/vehicle.hpp"
+
+namespace tiller {
+
+using Wrench = Eigen::Matrix<double, 6, 1>;
+using ThrustVec = Eigen::Matrix<double, Eigen::Dynamic, 1, 0, kMaxThrusters, 1>;
+
+// Largest |wrench component| accepted (wrench_t's documented range).
+inline constexpr double kMaxWrenchComponent = 1e5;
+
+struct AllocationResult {
+  bool manual = false;  // true: `demanded` is a normalised stick vector
+  Wrench demanded = Wrench::Zero();
+  Wrench target = Wrench::Zero();         // what the allocator aimed at, N / N m
+  Wrench achieved = Wrench::Zero();       // B * thrust (all six axes, side effects included)
+  Wrench unallocated = Wrench::Zero();    // target - achieved on actuated axes, 0 elsewhere
+  std::array<bool, 6> axis_reduced{};     // actuated axis that got less than demanded
+  std::array<bool, 6> axis_unactuated{};  // the layout has no authority on this axis
+  double scale = 1.0;  // 1 = met in full; < 1: fraction kept (smallest over groups / levels)
+  int n = 0;
+  std::array<double, kMaxThrusters> thrust{};   // N along each thruster's direction
+  std::array<double, kMaxThrusters> command{};  // [-1, 1]
+  std::array<bool, kMaxThrusters> saturated{};  // at its forward or reverse limit
+};
+
+class Allocator {
+ public:
+  // Throws std::invalid_argument naming the vehicle when groups are coupled both ways, etc.
+  explicit Allocator(const Vehicle& vehicle);
+
+  // Wrench in N / N m. Non-finite or |component| > kMaxWrenchComponent: neutral, false.
+  bool allocate(const Wrench& tau, AllocationResult& out) const;
+  // Normalised stick vector, each component in [-1, 1]. Invalid: neutral, false.
+  bool allocate_manual(const Wrench& stick, AllocationResult& out) const;
+  // Every command 0.
+  void neutral(AllocationResult& out) const;
+
+  int size() const { return n_; }
+  Strategy strategy() const { return strategy_; }
+  const char* strategy_name() const;
+  bool uses_matrix() const { return matrix_; }
+  const Eigen::MatrixXd& effectiveness() const { return b_full_; }
+  const std::array<bool, 6>& unactuated() const { return unactuated_; }
+  // Largest achievable wrench along +axis (sign > 0) or -axis alone, N or N m; 0 if unactuated.
+  double axis_max(int axis, int sign) const { return axis_max_[sign > 0 ? 0 : 1][axis]; }
+  // Unconstrained solution for tau (no limits): thrust = solve_unconstrained(tau).
+  ThrustVec solve_unconstrained(const Wrench& tau) const;
+  // Explicit-matrix vehicles: wrench per unit of each axis (tau_norm = tau / full_scale).
+  const Wrench& full_scale() const { return full_scale_; }
+  // One line per group: name, thrusters, owned axes, order.
+  std::string describe() const;
+  const Vehicle& vehicle() const { return vehicle_; }
+
+ private:
+  using Small = Eigen::Matrix<double, Eigen::Dynamic, 1, 0, 6, 1>;
+  using RowsB = Eigen::Matrix<double, Eigen::Dynamic, Eigen::Dynamic, 0, 6, kMaxThrusters>;
+  using PInv = Eigen::Matrix<double, Eigen::Dynamic, Eigen::Dynamic, 0, kMaxThrusters, 6>;
+  struct Group {
+    std::string name;
+    std::vector<int> idx;                  // thruster indices
+    std::vector<int> axes;                 // owned axes
+    RowsB rows;                            // B[axes, all thrusters]
+    PInv pinv;                             // pinv(B[axes, idx]): idx.size() x axes.size()
+    std::vector<std::vector<int>> levels;  // prioritised: positions into `axes`, by level
+  };
+
+  // Max mu >= 0 with lo <= mu*a + b <= hi over group g; -1 if mu = 0 is infeasible;
+  // +inf if unbounded.
+  double max_scale(const Group& g, const ThrustVec& a, const ThrustVec& b) const;
+  void clamp_group(const Group& g, ThrustVec& f) const;
+  bool finish(ThrustVec& thrust, AllocationResult& out) const;
+  void allocate_matrix(const Wrench& tau_norm, AllocationResult& out) const;
+
+  Vehicle vehicle_;
+  int n_ = 0;
+  Strategy strategy_;
+  bool matrix_ = false;
+  Eigen::MatrixXd b_full_;
+  Eigen::Matrix<double, 6, Eigen::Dynamic, 0, 6, kMaxThrusters> b_;
+  std::array<bool, 6> unactuated_{};
+  std::vector<Group> groups_;  // in solve order
+  std::array<double, kMaxThrusters> lo_{}, hi_{};
+  std::array<std::array<double, 6>, 2> axis_max_{};
+  Eigen::Matrix<double, Eigen::Dynamic, Eigen::Dynamic, 0, kMaxThrusters, 6> mix_;
+  std::vector<int> mix_axes_;
+  Wrench full_scale_ = Wrench::Ones();
+};
+
+}  // namespace tiller

@@ -1,0 +1,238 @@
+#include "mixer/mixer_node.hpp"
+
+#include <algorithm>
+#include <cmath>
+#include <filesystem>
+
+#include "core/checks.hpp"
+#include "runtime/channels.hpp"
+
+namespace tiller {
+namespace {
+
+TimeUs seconds_key(const config::Value& v, const char* key, double fallback) {
+  return from_seconds(v.number_or(key, fallback, {1e-3, 60.0}));
+}
+
+std::int8_t source_from_name(const std::string& s) {
+  if (s == "manual_demand") return wrench_t::SOURCE_MANUAL_DEMAND;
+  if (s == "velocity_pid") return wrench_t::SOURCE_VELOCITY_PID;
+  if (s == "station_keep") return wrench_t::SOURCE_STATION_KEEP;
+  return wrench_t::SOURCE_NONE;
+}
+
+bool known_source(std::int8_t s) {
+  return s >= wrench_t::SOURCE_NONE && s <= wrench_t::SOURCE_STATION_KEEP;
+}
+
+}  // namespace
+
+MixerParams load_mixer_params(const config::Value& root) {
+  namespace fs = std::filesystem;
+  MixerParams p;
+  const config::Value vk = root.at("vehicle");
+  const std::string rel = vk.as_string();
+  fs::path chosen;
+  if (fs::path(rel).is_absolute()) {
+    chosen = rel;
+  } else {
+    const fs::path beside = fs::path(root.file()).parent_path() / rel;
+    chosen = fs::exists(beside) ? beside : fs::path(rel);
+  }
+  if (!fs::exists(chosen))
+    vk.fail(
+        "a vehicle file (absolute, or relative to this config's folder or the current "
+        "directory); not found: " +
+        rel);
+  p.vehicle_file = chosen.lexically_normal().string();
+  p.rate_hz = root.number_or("rate_hz", 50.0, {1.0, 1000.0});
+  p.fallback_source =
+      source_from_name(root.choice_or("fallback_source", "manual_demand",
+                                      {"manual_demand", "velocity_pid", "station_keep", "none"}));
+  if (auto f = root.find("freshness")) {
+    p.manual_timeout_us = seconds_key(*f, "manual_demand_s", 0.5);
+    p.wrench_timeout_us = seconds_key(*f, "wrench_s", 0.5);
+    p.arbitration_timeout_us = seconds_key(*f, "arbitration_s", 1.0);
+    p.arm_timeout_us = seconds_key(*f, "arm_state_s", 0.5);
+  }
+  return p;
+}
+
+std::int8_t select_source(bool arbitration_fresh, std::int8_t arbitration_source,
+                          std::int8_t fallback_source) {
+  return arbitration_fresh ? arbitration_source : fallback_source;
+}
+
+MixerNode::MixerNode(const MixerParams& params, const Vehicle& vehicle)
+    : Node("mixer", from_hz(params.rate_hz)),
+      p_(params),
+      alloc_(std::make_unique<Allocator>(vehicle)),
+      manual_fresh_(params.manual_timeout_us),
+      arb_fresh_(params.arbitration_timeout_us),
+      arm_fresh_(params.arm_timeout_us) {
+  velocity_.fresh.set_limit(p_.wrench_timeout_us);
+  station_.fresh.set_limit(p_.wrench_timeout_us);
+  subscribe(channels::kManualDemand, &MixerNode::on_manual);
+  subscribe(channels::kWrenchVelocity, &MixerNode::on_wrench_velocity);
+  subscribe(channels::kWrenchStation, &MixerNode::on_wrench_station);
+  subscribe(channels::kArbitration, &MixerNode::on_arbitration);
+  subscribe(channels::kArmState, &MixerNode::on_arm_state);
+  rej_manual_ = &counter("rejected.manual_demand.range");
+  rej_wrench_ = &counter("rejected.wrench.range");
+  rej_arb_ = &counter("rejected.arbitration.source");
+  neutral_disarmed_ = &counter("neutral.disarmed");
+  neutral_no_input_ = &counter("neutral.no_valid_input");
+  const int n = alloc_->size();
+  cmd_.n_thrusters = n;
+  status_.n_thrusters = n;
+  cmd_.command.assign(static_cast<std::size_t>(n), 0.0);
+  status_.saturated.assign(static_cast<std::size_t>(n), false);
+  for (const Thruster& t : vehicle.thrusters) {
+    cmd_.names.push_back(t.name);
+    status_.names.push_back(t.name);
+  }
+  status_.strategy = alloc_->strategy_name();
+  alloc_->neutral(result_);
+  set_health(heartbeat_t::STATE_FAULT, "waiting for input and arm state");
+}
+
+MixerNode::MixerNode(const std::string& config_path)
+    : MixerNode(
+          [&] {
+            const auto root = config::Value::load_file(config_path);
+            MixerParams p = load_mixer_params(root);
+            root.check_all_used();
+            return p;
+          }(),
+          load_vehicle_file([&] {
+            const auto root = config::Value::load_file(config_path);
+            root.mark_used();
+            return load_mixer_params(root).vehicle_file;
+          }())) {}
+
+void MixerNode::on_manual(const manual_demand_t& m, TimeUs now) {
+  if (!all_in_range(m.demand, -1.0, 1.0)) {
+    manual_fresh_.reset();
+    reject(*rej_manual_);
+    output(now);
+    return;
+  }
+  if (!m.valid) {
+    manual_fresh_.reset();  // the teleop says: nothing to say -> absent
+  } else {
+    for (int i = 0; i < 6; ++i) manual_(i) = m.demand[i];
+    manual_fresh_.mark(now);
+  }
+  output(now);
+}
+
+void MixerNode::on_wrench(WrenchInput& in, const wrench_t& m, TimeUs now) {
+  if (!all_in_range(m.tau, -kMaxWrenchComponent, kMaxWrenchComponent)) {
+    in.fresh.reset();
+    reject(*rej_wrench_);
+    output(now);
+    return;
+  }
+  if (!m.valid) {
+    in.fresh.reset();
+  } else {
+    for (int i = 0; i < 6; ++i) in.tau(i) = m.tau[i];
+    in.fresh.mark(now);
+  }
+  output(now);
+}
+
+void MixerNode::on_wrench_velocity(const wrench_t& m, TimeUs now) {
+  on_wrench(velocity_, m, now);
+}
+void MixerNode::on_wrench_station(const wrench_t& m, TimeUs now) {
+  on_wrench(station_, m, now);
+}
+
+void MixerNode::on_arbitration(const arbitration_t& m, TimeUs now) {
+  if (!known_source(m.active_source)) {
+    arb_fresh_.reset();
+    reject(*rej_arb_);
+    output(now);
+    return;
+  }
+  arb_source_ = m.active_source;
+  arb_fresh_.mark(now);
+  output(now);
+}
+
+void MixerNode::on_arm_state(const arm_state_t& m, TimeUs now) {
+  armed_ = m.armed;
+  arm_fresh_.mark(now);
+  output(now);
+}
+
+void MixerNode::on_tick(TimeUs now) {
+  output(now);
+}
+
+void MixerNode::shutdown(TimeUs now) {
+  armed_ = false;
+  output(now);
+}
+
+void MixerNode::output(TimeUs now) {
+  const bool armed = armed_ && arm_fresh_.fresh(now);
+  active_ = select_source(arb_fresh_.fresh(now), arb_source_, p_.fallback_source);
+  bool ok = false;
+  if (!armed) {
+    ++*neutral_disarmed_;
+  } else if (active_ == wrench_t::SOURCE_MANUAL_DEMAND && manual_fresh_.fresh(now)) {
+    ok = alloc_->allocate_manual(manual_, result_);
+  } else if (active_ == wrench_t::SOURCE_VELOCITY_PID && velocity_.fresh.fresh(now)) {
+    ok = alloc_->allocate(velocity_.tau, result_);
+  } else if (active_ == wrench_t::SOURCE_STATION_KEEP && station_.fresh.fresh(now)) {
+    ok = alloc_->allocate(station_.tau, result_);
+  } else {
+    ++*neutral_no_input_;
+  }
+  if (!ok) alloc_->neutral(result_);
+  // Fresh-to-stale transitions of every input feed the heartbeat's "stale" counter.
+  const std::int64_t stale_now = manual_fresh_.stale_events() + velocity_.fresh.stale_events() +
+                                 station_.fresh.stale_events() + arb_fresh_.stale_events() +
+                                 arm_fresh_.stale_events();
+  if (stale_now > stale_seen_) {
+    count_stale(stale_now - stale_seen_);
+    stale_seen_ = stale_now;
+  }
+
+  cmd_.utime = now;
+  cmd_.armed = armed && ok;
+  cmd_.source = ok ? active_ : wrench_t::SOURCE_NONE;
+  for (int i = 0; i < result_.n; ++i)
+    cmd_.command[static_cast<std::size_t>(i)] =
+        ok ? result_.command[static_cast<std::size_t>(i)] : 0.0;
+  publish(channels::kThrusterCommand, cmd_);
+
+  status_.utime = now;
+  status_.source = cmd_.source;
+  for (int ax = 0; ax < 6; ++ax) {
+    const auto a = static_cast<std::size_t>(ax);
+    status_.demanded[ax] = result_.demanded(ax);
+    status_.achieved[ax] = result_.achieved(ax);
+    status_.unallocated[ax] = result_.unallocated(ax);
+    status_.axis_reduced[ax] = result_.axis_reduced[a];
+    status_.axis_unactuated[ax] = result_.axis_unactuated[a];
+  }
+  status_.scale = result_.scale;
+  for (int i = 0; i < result_.n; ++i)
+    status_.saturated[static_cast<std::size_t>(i)] = result_.saturated[static_cast<std::size_t>(i)];
+  publish(channels::kAllocationStatus, status_);
+
+  const std::int8_t health = ok      ? heartbeat_t::STATE_OK
+                             : armed ? heartbeat_t::STATE_DEGRADED
+                                     : heartbeat_t::STATE_FAULT;
+  if (health != health_) {
+    health_ = health;
+    set_health(health, ok      ? "allocating"
+                       : armed ? "armed, no valid input: neutral"
+                               : "disarmed: neutral");
+  }
+}
+
+}  // namespace tiller

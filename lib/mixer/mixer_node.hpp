@@ -1,0 +1,103 @@
+// tiller-mixer's logic: picks the active wrench source, allocates it onto the thrusters and
+// publishes one normalised command per thruster (TILLER_THRUSTER_COMMAND) and the allocation
+// status (TILLER_ALLOCATION_STATUS) -- at the configured rate and at once on every new input.
+//
+// Inputs: TILLER_MANUAL_DEMAND (normalised stick vector, open loop), TILLER_WRENCH_VELOCITY and
+// TILLER_WRENCH_STATION (wrench, N / N m, body FRD), TILLER_ARBITRATION (which source is
+// active), TILLER_ARM_STATE (tiller-esc is the authority on arming).
+// Safety: a message with NaN/inf or out of range is dropped, counted, and makes that input
+// absent at once; an input older than its freshness limit is absent; the active source absent,
+// or no fresh "armed" arm state -> every command 0 (armed = false in the message).
+// Source choice: see select_source() -- the one place that decides.
+#pragma once
+
+#include <cstdint>
+#include <memory>
+#include <string>
+
+#include <tiller/allocation_status_t.hpp>
+#include <tiller/arbitration_t.hpp>
+#include <tiller/arm_state_t.hpp>
+#include <tiller/manual_demand_t.hpp>
+#include <tiller/thruster_command_t.hpp>
+#include <tiller/wrench_t.hpp>
+
+#include "allocation/allocator.hpp"
+#include "core/config.hpp"
+#include "core/time.hpp"
+#include "runtime/node.hpp"
+#include "vehicle/vehicle.hpp"
+
+namespace tiller {
+
+struct MixerParams {
+  std::string vehicle_file;  // resolved path of the vehicle description
+  double rate_hz = 50.0;     // fixed publishing rate
+  std::int8_t fallback_source = wrench_t::SOURCE_MANUAL_DEMAND;  // when no fresh arbitration
+  TimeUs manual_timeout_us = 500'000;
+  TimeUs wrench_timeout_us = 500'000;
+  TimeUs arbitration_timeout_us = 1'000'000;
+  TimeUs arm_timeout_us = 500'000;
+};
+
+// Reads config/mixer/<vehicle>.yaml (strict). `vehicle:` is resolved relative to the config
+// file's folder first, then to the current directory (the repository root when run from
+// there); an absolute path works from anywhere.
+MixerParams load_mixer_params(const config::Value& root);
+
+// The source the mixer must allocate now (seed 004's choose_pid decision, made upstream by
+// lib/control/arbiter and published on TILLER_ARBITRATION): the latest fresh arbitration's
+// active_source; with none fresh, the configured fallback. SOURCE_NONE means neutral.
+std::int8_t select_source(bool arbitration_fresh, std::int8_t arbitration_source,
+                          std::int8_t fallback_source);
+
+class MixerNode : public Node {
+ public:
+  MixerNode(const MixerParams& params, const Vehicle& vehicle);
+  // Loads the mixer config file and the vehicle it names.
+  explicit MixerNode(const std::string& config_path);
+
+  void on_tick(TimeUs now) override;
+  void shutdown(TimeUs now) override;
+
+  void on_manual(const manual_demand_t& m, TimeUs now);
+  void on_wrench_velocity(const wrench_t& m, TimeUs now);
+  void on_wrench_station(const wrench_t& m, TimeUs now);
+  void on_arbitration(const arbitration_t& m, TimeUs now);
+  void on_arm_state(const arm_state_t& m, TimeUs now);
+
+  const Allocator& allocator() const { return *alloc_; }
+  const AllocationResult& last_result() const { return result_; }
+  const thruster_command_t& last_command() const { return cmd_; }
+  std::int8_t active_source() const { return active_; }
+  const MixerParams& params() const { return p_; }
+
+ private:
+  struct WrenchInput {
+    Freshness fresh;
+    Wrench tau = Wrench::Zero();
+  };
+  void on_wrench(WrenchInput& in, const wrench_t& m, TimeUs now);
+  void output(TimeUs now);
+
+  MixerParams p_;
+  std::unique_ptr<Allocator> alloc_;
+  Freshness manual_fresh_, arb_fresh_, arm_fresh_;
+  Wrench manual_ = Wrench::Zero();
+  WrenchInput velocity_, station_;
+  std::int8_t arb_source_ = wrench_t::SOURCE_NONE;
+  bool armed_ = false;
+  std::int8_t active_ = wrench_t::SOURCE_NONE;
+  AllocationResult result_;
+  thruster_command_t cmd_{};
+  allocation_status_t status_{};
+  std::int64_t* rej_manual_;
+  std::int64_t* rej_wrench_;
+  std::int64_t* rej_arb_;
+  std::int64_t* neutral_disarmed_;
+  std::int64_t* neutral_no_input_;
+  std::int64_t stale_seen_ = 0;
+  std::int8_t health_ = -1;
+};
+
+}  // namespace tiller
