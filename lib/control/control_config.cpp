@@ -37,6 +37,7 @@ static ControllerNodeCommon load_common(const config::Value& v) {
   c.hold_s = v.number("hold_s", {0, 60});
   c.input_timeout_s = v.number("input_timeout_s", {0.001, 60});
   c.allocation_timeout_s = v.number("allocation_timeout_s", {0.001, 60});
+  c.blend_s = v.number("blend_s", {0, 60});
   return c;
 }
 

@@ -27,6 +27,7 @@ struct ControllerNodeCommon {
   double hold_s = 0.5;
   double input_timeout_s = 0.5;       // setpoints, targets, progress, manual commands
   double allocation_timeout_s = 0.5;  // TILLER_ALLOCATION_STATUS older than this is ignored
+  double blend_s = 1.0;  // s: on taking over, blend from the other controller's last wrench
 };
 
 struct VelocityPidNodeParams {

@@ -20,7 +20,10 @@ StationKeepNode::StationKeepNode(const StationKeepNodeParams& p)
       odom_fresh_(from_seconds(p.common.odometry_timeout_s)),
       target_fresh_(from_seconds(p.common.input_timeout_s)),
       arb_fresh_(from_seconds(p.common.input_timeout_s)),
-      alloc_fresh_(from_seconds(p.common.allocation_timeout_s)) {
+      alloc_fresh_(from_seconds(p.common.allocation_timeout_s)),
+      velocity_fresh_(from_seconds(p.common.input_timeout_s)),
+      blend_(p.common.blend_s) {
+  subscribe(channels::kWrenchVelocity, &StationKeepNode::on_velocity_wrench);
   subscribe(channels::kOdometry, &StationKeepNode::on_odometry);
   subscribe(channels::kStationTarget, &StationKeepNode::on_target);
   subscribe(channels::kArbitration, &StationKeepNode::on_arbitration);
@@ -58,6 +61,12 @@ void StationKeepNode::on_allocation(const allocation_status_t& m, TimeUs now) {
   alloc_fresh_.mark(now);
 }
 
+void StationKeepNode::on_velocity_wrench(const wrench_t& m, TimeUs now) {
+  if (!all_finite(m.tau)) return;
+  velocity_wrench_ = m;
+  velocity_fresh_.mark(now);
+}
+
 void StationKeepNode::publish_wrench(TimeUs now, bool valid, double x, double y, double n) {
   wrench_t w{};
   w.utime = now;
@@ -72,7 +81,13 @@ void StationKeepNode::publish_wrench(TimeUs now, bool valid, double x, double y,
 
 void StationKeepNode::on_tick(TimeUs now) {
   active_ = arb_fresh_.fresh(now) && arb_.active_source == wrench_t::SOURCE_STATION_KEEP;
-  if (!active_) pid_.reset();
+  if (!active_) {
+    pid_.reset();
+    blend_.stop();
+  } else if (!was_active_ && velocity_fresh_.fresh(now) && velocity_wrench_.valid) {
+    blend_.start(now, {velocity_wrench_.tau[0], velocity_wrench_.tau[1], velocity_wrench_.tau[5]});
+  }
+  was_active_ = active_;
 
   const bool odom_ok = odom_fresh_.fresh(now);
   if (odom_fresh_.stale_events() > seen_stale_) {
@@ -120,7 +135,15 @@ void StationKeepNode::on_tick(TimeUs now) {
         alloc_ok && (alloc_.axis_reduced[kAxis[k]] || alloc_.axis_unactuated[kAxis[k]]);
   }
   terms_ = have_target ? pid_.step(in) : PidTerms{};
-  publish_wrench(now, have_target, terms_.out[0], terms_.out[1], terms_.out[2]);
+  if (have_target && active_) terms_.out = blend_.apply(now, terms_.out);
+  if (!active_ && velocity_fresh_.fresh(now) && velocity_wrench_.valid) {
+    // Standing by: track the velocity PID's wrench, so a mixer that switches to us before our
+    // next tick sees no step (bumpless hand-over); the terms still show our own law.
+    publish_wrench(now, true, velocity_wrench_.tau[0], velocity_wrench_.tau[1],
+                   velocity_wrench_.tau[5]);
+  } else {
+    publish_wrench(now, have_target, terms_.out[0], terms_.out[1], terms_.out[2]);
+  }
 
   pid_terms_t t{};
   t.utime = now;

@@ -4,9 +4,10 @@
 // TILLER_ALLOCATION_STATUS. Every tick (rate_hz) it publishes TILLER_WRENCH_STATION (body FRD
 // [X Y 0 0 0 N], N and N m; invalid while there is no fresh active target) and its terms on
 // TILLER_PID_STATION. It integrates only while the arbitration makes it the active source
-// (integrator restarts from zero on entry). A target without a heading holds the heading the
-// vehicle has when the target first becomes active. Odometry stale: neutral, or the last wrench
-// for hold_s, per config.
+// (integrator restarts from zero on entry; its output is blended from the velocity PID's last
+// wrench over blend_s, so the hand-over has no thrust step). A target without a heading holds the
+// heading the vehicle has when the target first becomes active. Odometry stale: neutral, or the
+// last wrench for hold_s, per config.
 #pragma once
 
 #include <tiller/allocation_status_t.hpp>
@@ -15,6 +16,7 @@
 #include <tiller/station_target_t.hpp>
 #include <tiller/wrench_t.hpp>
 
+#include "control/blend.hpp"
 #include "control/control_config.hpp"
 #include "control/station_pid.hpp"
 #include "runtime/node.hpp"
@@ -29,6 +31,7 @@ class StationKeepNode : public Node {
   void on_target(const station_target_t& m, TimeUs now);
   void on_arbitration(const arbitration_t& m, TimeUs now);
   void on_allocation(const allocation_status_t& m, TimeUs now);
+  void on_velocity_wrench(const wrench_t& m, TimeUs now);
   void on_tick(TimeUs now) override;
 
   const PidTerms& terms() const { return terms_; }
@@ -51,6 +54,10 @@ class StationKeepNode : public Node {
   double hold_heading_ = 0;
   TimeUs last_odom_utime_ = -1;
   wrench_t last_wrench_{};
+  wrench_t velocity_wrench_{};
+  Freshness velocity_fresh_;
+  Blend blend_;
+  bool was_active_ = false;
   std::int64_t *nan_odometry_, *bad_target_;
 };
 

@@ -24,7 +24,10 @@ VelocityPidNode::VelocityPidNode(const VelocityPidNodeParams& p)
       manual_fresh_(from_seconds(p.common.input_timeout_s)),
       progress_fresh_(from_seconds(p.common.input_timeout_s)),
       alloc_fresh_(from_seconds(p.common.allocation_timeout_s)),
-      mode_(p.arbiter.default_mode) {
+      mode_(p.arbiter.default_mode),
+      station_fresh_(from_seconds(p.common.input_timeout_s)),
+      blend_(p.common.blend_s) {
+  subscribe(channels::kWrenchStation, &VelocityPidNode::on_station_wrench);
   subscribe(channels::kOdometry, &VelocityPidNode::on_odometry);
   subscribe(channels::kVelocitySetpoint, &VelocityPidNode::on_setpoint);
   subscribe(channels::kManualVelocity, &VelocityPidNode::on_manual);
@@ -91,6 +94,12 @@ void VelocityPidNode::on_allocation(const allocation_status_t& m, TimeUs now) {
   alloc_fresh_.mark(now);
 }
 
+void VelocityPidNode::on_station_wrench(const wrench_t& m, TimeUs now) {
+  if (!all_finite(m.tau)) return;
+  station_wrench_ = m;
+  station_fresh_.mark(now);
+}
+
 void VelocityPidNode::publish_wrench(TimeUs now, bool valid, double x, double y, double n) {
   wrench_t w{};
   w.utime = now;
@@ -121,7 +130,16 @@ void VelocityPidNode::on_tick(TimeUs now) {
   publish(channels::kArbitration, arb);
 
   const bool active = decision_.source == wrench_t::SOURCE_VELOCITY_PID;
-  if (!active) pid_.reset();  // restart from zero on entry
+  if (!active) {
+    pid_.reset();  // restart from zero on entry
+    blend_.stop();
+  } else if (!was_active_) {
+    // Taking over from station keeping: start from its last wrench (else from what we had).
+    const bool from_station = station_fresh_.fresh(now) && station_wrench_.valid;
+    const wrench_t& f = from_station ? station_wrench_ : last_wrench_;
+    if (from_station || last_wrench_.valid) blend_.start(now, {f.tau[0], f.tau[1], f.tau[5]});
+  }
+  was_active_ = active;
 
   // 2. The wrench.
   const bool odom_ok = odom_fresh_.fresh(now);
@@ -196,7 +214,15 @@ void VelocityPidNode::on_tick(TimeUs now) {
         alloc_ok && (alloc_.axis_reduced[kAxis[k]] || alloc_.axis_unactuated[kAxis[k]]);
   }
   terms_ = have_command ? pid_.step(in) : PidTerms{};
-  publish_wrench(now, have_command, terms_.out[0], terms_.out[1], terms_.out[2]);
+  if (have_command && active) terms_.out = blend_.apply(now, terms_.out);
+  if (decision_.source == wrench_t::SOURCE_STATION_KEEP && station_fresh_.fresh(now) &&
+      station_wrench_.valid) {
+    // Station keeping in force: track its wrench, so the hand-back has no step.
+    publish_wrench(now, true, station_wrench_.tau[0], station_wrench_.tau[1],
+                   station_wrench_.tau[5]);
+  } else {
+    publish_wrench(now, have_command, terms_.out[0], terms_.out[1], terms_.out[2]);
+  }
 
   pid_terms_t t{};
   t.utime = now;

@@ -5,9 +5,10 @@
 // tick (rate_hz) it decides the wrench source and publishes TILLER_ARBITRATION, then publishes
 // TILLER_WRENCH_VELOCITY (body FRD [X Y 0 0 0 N], N and N m) and its terms on
 // TILLER_PID_VELOCITY. The PID integrates only while it is the active source (its integrator
-// restarts from zero on entry), with dt from the odometry times, frozen while the mixer
-// reports the axis reduced. No fresh setpoint: wrench invalid (the mixer treats it as absent).
-// Odometry stale: neutral, or the last wrench for hold_s, per config.
+// restarts from zero on entry, and its output is blended from the station keeper's last wrench
+// over blend_s so the hand-over has no thrust step), with dt from the odometry times, frozen while
+// the mixer reports the axis reduced. No fresh setpoint: wrench invalid (the mixer treats it as
+// absent). Odometry stale: neutral, or the last wrench for hold_s, per config.
 #pragma once
 
 #include <tiller/allocation_status_t.hpp>
@@ -19,6 +20,7 @@
 #include <tiller/wrench_t.hpp>
 
 #include "control/arbiter.hpp"
+#include "control/blend.hpp"
 #include "control/control_config.hpp"
 #include "control/velocity_pid.hpp"
 #include "runtime/node.hpp"
@@ -35,6 +37,7 @@ class VelocityPidNode : public Node {
   void on_mode(const controller_mode_t& m, TimeUs now);
   void on_progress(const path_progress_t& m, TimeUs now);
   void on_allocation(const allocation_status_t& m, TimeUs now);
+  void on_station_wrench(const wrench_t& m, TimeUs now);
   void on_tick(TimeUs now) override;
 
   const ArbiterDecision& decision() const { return decision_; }
@@ -59,6 +62,10 @@ class VelocityPidNode : public Node {
   bool is_translation_ = false;
   TimeUs last_odom_utime_ = -1;
   wrench_t last_wrench_{};
+  wrench_t station_wrench_{};
+  Freshness station_fresh_;
+  Blend blend_;
+  bool was_active_ = false;
   std::int64_t *nan_odometry_, *bad_setpoint_, *bad_manual_, *bad_progress_, *bad_mode_;
 };
 

@@ -1,0 +1,154 @@
+#include "mission/mission.hpp"
+
+#include <cmath>
+#include <fstream>
+#include <sstream>
+
+#include "core/angles.hpp"
+
+namespace tiller::mission {
+
+namespace {
+
+MissionPoint load_point(const config::Value& v) {
+  MissionPoint p;
+  if (v.is_sequence()) {
+    const auto xy = v.as_numbers(2, {-1e6, 1e6});
+    p.north = xy[0];
+    p.east = xy[1];
+    return p;
+  }
+  if (!v.is_map()) v.fail("[north, east] or {north, east, heading_deg}");
+  p.north = v.number("north", {-1e6, 1e6});
+  p.east = v.number("east", {-1e6, 1e6});
+  if (v.has("heading_deg")) {
+    p.has_heading = true;
+    p.heading = wrap_pi(v.angle_deg("heading_deg", {-360, 360}));
+  }
+  return p;
+}
+
+std::string dir_of(const std::string& path) {
+  const auto k = path.find_last_of('/');
+  return k == std::string::npos ? std::string(".") : path.substr(0, k);
+}
+
+std::vector<std::string> split_csv(const std::string& line) {
+  std::vector<std::string> out;
+  std::stringstream ss(line);
+  std::string cell;
+  while (std::getline(ss, cell, ',')) {
+    const auto a = cell.find_first_not_of(" \t\r");
+    const auto b = cell.find_last_not_of(" \t\r");
+    out.push_back(a == std::string::npos ? "" : cell.substr(a, b - a + 1));
+  }
+  if (!line.empty() && line.back() == ',') out.push_back("");
+  return out;
+}
+
+}  // namespace
+
+std::vector<MissionPoint> load_csv_points(const std::string& path) {
+  std::ifstream in(path);
+  if (!in) throw config::Error(path + ": cannot open the mission file");
+  std::string line;
+  int lineno = 0;
+  bool header = false, with_heading = false;
+  std::vector<MissionPoint> pts;
+  auto fail = [&](const std::string& what) {
+    throw config::Error(path + ":" + std::to_string(lineno) + ": expected " + what + ", got '" +
+                        line + "'");
+  };
+  while (std::getline(in, line)) {
+    ++lineno;
+    if (!line.empty() && line.back() == '\r') line.pop_back();
+    if (line.find_first_not_of(" \t") == std::string::npos || line[0] == '#') continue;
+    const auto cells = split_csv(line);
+    if (!header) {
+      if (cells.size() == 2 && cells[0] == "north" && cells[1] == "east") {
+      } else if (cells.size() == 3 && cells[0] == "north" && cells[1] == "east" &&
+                 cells[2] == "heading_deg") {
+        with_heading = true;
+      } else {
+        fail("the header 'north,east' or 'north,east,heading_deg'");
+      }
+      header = true;
+      continue;
+    }
+    if (cells.size() != (with_heading ? 3u : 2u)) fail(with_heading ? "3 columns" : "2 columns");
+    MissionPoint p;
+    double v[3] = {0, 0, 0};
+    for (std::size_t k = 0; k < cells.size(); ++k) {
+      if (k == 2 && cells[k].empty()) break;
+      std::size_t used = 0;
+      try {
+        v[k] = std::stod(cells[k], &used);
+      } catch (...) {
+        used = 0;
+      }
+      if (used != cells[k].size() || !std::isfinite(v[k]) || std::abs(v[k]) > 1e6) {
+        fail("numbers within +-1e6");
+      }
+      if (k == 2) p.has_heading = true;
+    }
+    p.north = v[0];
+    p.east = v[1];
+    p.heading = wrap_pi(deg_to_rad(v[2]));
+    pts.push_back(p);
+  }
+  if (!header) throw config::Error(path + ": empty mission file (expected a header line)");
+  if (pts.empty()) throw config::Error(path + ": expected at least one waypoint");
+  return pts;
+}
+
+Mission load_mission(const config::Value& root, const std::string& base_dir) {
+  Mission m;
+  m.name = root.string_or("name", "mission");
+  m.description = root.string_or("description", "");
+  m.is_translation = root.boolean_or("is_translation", false);
+  m.time_limit_s = root.number_or("time_limit_s", 600, {1, 1e6});
+  m.station_keep_s = root.number_or("station_keep_s", 0, {0, 1e6});
+  if (auto s = root.find("start")) m.start = load_point(*s);
+  if (root.has("waypoints") == root.has("waypoints_csv")) {
+    root.fail("exactly one of 'waypoints' or 'waypoints_csv'");
+  }
+  if (root.has("waypoints")) {
+    const auto w = root.at("waypoints");
+    if (!w.is_sequence() || w.size() == 0) w.fail("a non-empty list of waypoints");
+    for (const auto& item : w.items()) m.waypoints.push_back(load_point(item));
+  } else {
+    m.waypoints = load_csv_points(base_dir + "/" + root.string("waypoints_csv"));
+  }
+  root.check_all_used();
+  return m;
+}
+
+Mission load_mission_file(const std::string& path) {
+  const auto ext = path.substr(
+      path.find_last_of('.') == std::string::npos ? path.size() : path.find_last_of('.'));
+  if (ext == ".csv") {
+    Mission m;
+    m.name = path;
+    m.waypoints = load_csv_points(path);
+    return m;
+  }
+  return load_mission(config::Value::load_file(path), dir_of(path));
+}
+
+path_t to_path(const Mission& m, std::int64_t path_id, std::int64_t utime) {
+  path_t p{};
+  p.utime = utime;
+  p.path_id = path_id;
+  for (const auto& w : m.waypoints) {
+    waypoint_t x{};
+    x.position[0] = w.north;
+    x.position[1] = w.east;
+    x.has_heading = w.has_heading;
+    x.heading = w.heading;
+    p.waypoints.push_back(x);
+  }
+  p.n_waypoints = static_cast<std::int32_t>(p.waypoints.size());
+  return p;
+}
+
+}  // namespace tiller::mission

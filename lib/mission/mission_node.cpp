@@ -1,0 +1,37 @@
+#include "mission/mission_node.hpp"
+
+#include <tiller/arm_request_t.hpp>
+#include <tiller/controller_mode_t.hpp>
+
+#include "runtime/channels.hpp"
+
+namespace tiller::mission {
+
+MissionNode::MissionNode(const Mission& m, std::int64_t path_id, TimeUs repeat_period_us, bool arm)
+    : Node("mission", repeat_period_us),
+      path_(to_path(m, path_id, 0)),
+      translation_(m.is_translation),
+      arm_(arm) {
+  set_health(heartbeat_t::STATE_OK, "publishing " + m.name);
+}
+
+void MissionNode::on_tick(TimeUs now) {
+  path_.utime = now;
+  publish(channels::kPath, path_);
+  controller_mode_t mode{};
+  mode.utime = now;
+  mode.mode = controller_mode_t::WAYPOINTING;
+  mode.is_translation = translation_;
+  mode.source = "mission";
+  publish(channels::kMode, mode);
+  if (arm_) {
+    arm_request_t a{};
+    a.utime = now;
+    a.arm = true;
+    a.source = "mission";
+    publish(channels::kArmRequest, a);
+  }
+  ++sent_;
+}
+
+}  // namespace tiller::mission

@@ -1,0 +1,101 @@
+#include "scores/scores.hpp"
+
+#include <algorithm>
+#include <cmath>
+#include <limits>
+
+#include "core/angles.hpp"
+
+namespace tiller::scores {
+
+double vrx_error(double d, double h) {
+  return d + std::pow(0.75, d) * h;
+}
+
+double distance_to_path(double n, double e, const std::vector<Goal>& path) {
+  if (path.empty()) return 0;
+  double best = std::hypot(n - path[0].north, e - path[0].east);
+  for (std::size_t k = 1; k < path.size(); ++k) {
+    const double an = path[k - 1].north, ae = path[k - 1].east;
+    const double sn = path[k].north - an, se = path[k].east - ae;
+    const double l2 = sn * sn + se * se;
+    double t = l2 > 0 ? ((n - an) * sn + (e - ae) * se) / l2 : 0.0;
+    t = std::clamp(t, 0.0, 1.0);
+    best = std::min(best, std::hypot(n - (an + t * sn), e - (ae + t * se)));
+  }
+  return best;
+}
+
+static double heading_error(const Goal& g, double heading) {
+  return g.has_heading ? std::abs(angle_diff(g.heading, heading)) : 0.0;
+}
+
+PathScores score_path(const std::vector<Pose>& run, const std::vector<Goal>& path, double start,
+                      std::optional<double> complete_at, double visit_radius) {
+  PathScores s;
+  if (path.empty() || run.empty()) return s;
+  // Waypoints reached in order.
+  std::size_t next = 0;
+  double reached_last_at = -1;
+  std::vector<double> best_e(path.size(), std::numeric_limits<double>::infinity());
+  for (const auto& p : run) {
+    if (p.t < start) continue;
+    for (std::size_t k = 0; k < path.size(); ++k) {
+      const double d = std::hypot(p.north - path[k].north, p.east - path[k].east);
+      best_e[k] = std::min(best_e[k], vrx_error(d, heading_error(path[k], p.heading)));
+    }
+    while (next < path.size() &&
+           std::hypot(p.north - path[next].north, p.east - path[next].east) < visit_radius) {
+      if (next + 1 == path.size()) reached_last_at = p.t;
+      ++next;
+    }
+  }
+  s.waypoints_reached = static_cast<int>(next);
+  s.waypoints_missed = static_cast<int>(path.size() - next);
+  const double end =
+      complete_at ? *complete_at : (reached_last_at >= 0 ? reached_last_at : run.back().t);
+  if (complete_at)
+    s.time_to_complete = *complete_at - start;
+  else if (reached_last_at >= 0)
+    s.time_to_complete = reached_last_at - start;
+  double sum = 0;
+  int n = 0;
+  for (const auto& p : run) {
+    if (p.t < start || p.t > end) continue;
+    const double d = distance_to_path(p.north, p.east, path);
+    sum += d * d;
+    s.cross_track_max = std::max(s.cross_track_max, d);
+    ++n;
+  }
+  s.cross_track_rms = n ? std::sqrt(sum / n) : 0;
+  const auto& g = path.back();
+  s.final_position_error = std::hypot(run.back().north - g.north, run.back().east - g.east);
+  s.final_heading_error = g.has_heading ? std::abs(angle_diff(g.heading, run.back().heading)) : -1;
+  double w = 0;
+  for (double b : best_e) w += b;
+  s.vrx_wayfinding = w / static_cast<double>(path.size());
+  return s;
+}
+
+double vrx_station_keeping(const std::vector<Pose>& run, const Goal& goal, double t0, double t1) {
+  double sum = 0;
+  int n = 0;
+  for (const auto& p : run) {
+    if (p.t < t0 || p.t > t1) continue;
+    sum += vrx_error(std::hypot(p.north - goal.north, p.east - goal.east),
+                     heading_error(goal, p.heading));
+    ++n;
+  }
+  return n ? sum / n : -1;
+}
+
+double max_distance(const std::vector<Pose>& run, const Goal& goal, double t0, double t1) {
+  double m = 0;
+  for (const auto& p : run) {
+    if (p.t < t0 || p.t > t1) continue;
+    m = std::max(m, std::hypot(p.north - goal.north, p.east - goal.east));
+  }
+  return m;
+}
+
+}  // namespace tiller::scores

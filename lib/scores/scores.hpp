@@ -1,0 +1,53 @@
+// Scores of a run, from the vehicle's pose over time (world NED, m; headings rad NED).
+// Lower is better for every number.
+//   * cross-track RMS and max (m): distance from the vehicle to the path polyline, from the
+//     start time until the path is complete (or the end of the samples);
+//   * time to complete (s), waypoints reached in order within visit_radius, and missed;
+//   * final position error (m) and heading error (rad, NaN if the goal has no heading);
+//   * VRX station keeping: mean over a window of E = d + 0.75^d * h, with d the distance to the
+//     goal (m) and h the heading error in [0, pi] (0 when the goal has no heading);
+//   * VRX wayfinding: for each waypoint the minimum E over the run, averaged over waypoints.
+#pragma once
+
+#include <optional>
+#include <vector>
+
+namespace tiller::scores {
+
+struct Pose {
+  double t = 0;  // s
+  double north = 0, east = 0;
+  double heading = 0;  // rad
+};
+
+struct Goal {
+  double north = 0, east = 0;
+  bool has_heading = false;
+  double heading = 0;
+};
+
+struct PathScores {
+  double cross_track_rms = 0, cross_track_max = 0;  // m
+  double time_to_complete = -1;                     // s from start; -1: not completed
+  int waypoints_reached = 0, waypoints_missed = 0;
+  double final_position_error = 0;  // m at the last sample
+  double final_heading_error = -1;  // rad; -1: the goal has no heading
+  double vrx_wayfinding = 0;
+};
+
+// E = d + 0.75^d * h (VRX).
+double vrx_error(double d, double h);
+// Distance from a point to a polyline (a single point: distance to it).
+double distance_to_path(double n, double e, const std::vector<Goal>& path);
+
+// `start`: time the path was given; `complete_at`: when the follower reported it complete (if
+// known; otherwise the time the last waypoint was reached in order).
+PathScores score_path(const std::vector<Pose>& run, const std::vector<Goal>& path, double start,
+                      std::optional<double> complete_at = std::nullopt, double visit_radius = 1.0);
+
+// Mean of E over samples with t in [t0, t1]; -1 if there are none.
+double vrx_station_keeping(const std::vector<Pose>& run, const Goal& goal, double t0, double t1);
+// Largest distance from the goal over samples with t in [t0, t1].
+double max_distance(const std::vector<Pose>& run, const Goal& goal, double t0, double t1);
+
+}  // namespace tiller::scores
