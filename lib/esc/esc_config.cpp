@@ -1,5 +1,6 @@
 #include "esc/esc_config.hpp"
 
+#include <algorithm>
 #include <filesystem>
 #include <set>
 
@@ -96,6 +97,13 @@ EscConfig load_esc_config(const config::Value& root) {
     c.dry_run.protocol = v->choice_or("protocol", "i2c_tgy", {"i2c_tgy", "pca9685"});
     c.dry_run.every_cycle =
         v->choice_or("print", "changes", {"changes", "every_cycle"}) == "every_cycle";
+    if (auto u = v->find("unplugged")) {
+      if (!u->is_sequence()) u->fail("a list of I2C addresses");
+      u->mark_used();  // an empty list has no items to read
+      for (const auto& a : u->items()) {
+        c.dry_run.unplugged.push_back(static_cast<int>(a.as_integer(0x03, 0x77)));
+      }
+    }
   }
   const std::string proto = c.backend == "dry_run" ? c.dry_run.protocol : c.backend;
   if (proto == "i2c_tgy" && !root.has("i2c_tgy") && c.backend != "dry_run") root.at("i2c_tgy");
@@ -168,10 +176,17 @@ std::unique_ptr<EscBackend> make_backend(const EscConfig& cfg, I2cTransport* tra
   const std::string proto = cfg.backend == "dry_run" ? cfg.dry_run.protocol : cfg.backend;
   if (cfg.backend == "dry_run") {
     auto dry = std::make_shared<DryRunTransport>(dry_run_out, cfg.dry_run.every_cycle);
+    auto plugged = [&](int a) {
+      return std::find(cfg.dry_run.unplugged.begin(), cfg.dry_run.unplugged.end(), a) ==
+             cfg.dry_run.unplugged.end();
+    };
     if (proto == "pca9685") {
-      dry->add_pca9685(static_cast<std::uint8_t>(cfg.pca9685.address));
+      if (plugged(cfg.pca9685.address))
+        dry->add_pca9685(static_cast<std::uint8_t>(cfg.pca9685.address));
     } else {
-      for (const auto& e : cfg.escs) dry->add_tgy(static_cast<std::uint8_t>(e.address));
+      for (const auto& e : cfg.escs) {
+        if (plugged(e.address)) dry->add_tgy(static_cast<std::uint8_t>(e.address));
+      }
     }
     owned = dry;
     transport = dry.get();

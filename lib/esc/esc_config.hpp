@@ -9,7 +9,7 @@
 //   pca9685: {bus, address, pwm_hz, oscillator_hz, oscillator_calibration, external_clock_hz,
 //             output (totem_pole | open_drain), min_us, neutral_us, max_us}
 //   sim: {unit (throttle_int16 | pulse_us), min_us, neutral_us, max_us}
-//   dry_run: {protocol (i2c_tgy | pca9685), print (changes | every_cycle)}
+//   dry_run: {protocol (i2c_tgy | pca9685), print (changes | every_cycle), unplugged: [addr]}
 //   escs: [{name, address (i2c_tgy) | channel (pca9685, sim), trim, slew_per_s,
 //           min_us, neutral_us, max_us}]
 // Every backend section present is checked, whichever backend is chosen.
@@ -43,6 +43,7 @@ struct EscNodeParams {
 struct DryRunParams {
   std::string protocol = "i2c_tgy";  // whose bytes to print: i2c_tgy | pca9685
   bool every_cycle = false;          // false: print a transaction only when its bytes change
+  std::vector<int> unplugged;        // addresses whose model is left off the bus (rehearse a fault)
 };
 
 struct EscConfig {

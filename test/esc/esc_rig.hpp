@@ -144,9 +144,10 @@ inline std::string sim_yaml(const std::string& extra = "", const std::string& es
          esc_extra + "}\n";
 }
 
-inline std::string tgy_yaml(const std::string& extra = "") {
+inline std::string tgy_yaml(const std::string& extra = "", bool telemetry = true) {
   return "vehicle: rov4.yaml\nbackend: i2c_tgy\n" + extra +
-         "i2c_tgy: {bus: /dev/i2c-1, telemetry: true, motor_poles: 14}\n"
+         "i2c_tgy: {bus: /dev/i2c-1, telemetry: " + (telemetry ? "true" : "false") +
+         ", motor_poles: 14}\n"
          "escs:\n"
          "  - {name: front_right, address: 0x29}\n"
          "  - {name: front_left, address: 0x2a}\n"
