@@ -1,0 +1,104 @@
+// Mission files: YAML and CSV forms, the shipped missions, errors that name file and line.
+#include <gtest/gtest.h>
+
+#include <cstdio>
+#include <fstream>
+
+#include "core/angles.hpp"
+#include "mission/mission.hpp"
+#include "mission/mission_node.hpp"
+#include "runtime/channels.hpp"
+#include "runtime/lockstep.hpp"
+
+namespace tiller::mission {
+namespace {
+
+std::string src(const std::string& rel) {
+  return std::string(TILLER_SOURCE_DIR) + "/" + rel;
+}
+
+std::string write_tmp(const std::string& name, const std::string& text) {
+  const std::string path = ::testing::TempDir() + name;
+  std::ofstream(path) << text;
+  return path;
+}
+
+TEST(MissionFile, ShippedMissionsLoad) {
+  for (const char* f : {"config/missions/default.yaml", "config/missions/vrx_wayfinding.yaml",
+                        "config/missions/station_keeping.yaml", "config/missions/wayfinding.csv"}) {
+    const auto m = load_mission_file(src(f));
+    EXPECT_FALSE(m.waypoints.empty()) << f;
+  }
+  const auto d = load_mission_file(src("config/missions/default.yaml"));
+  EXPECT_EQ(d.name, "default");
+  EXPECT_LT(d.time_limit_s, 180);  // the main job's mission is short
+  EXPECT_TRUE(d.waypoints.back().has_heading);
+  EXPECT_NEAR(d.waypoints.back().heading, kPi, 1e-12);
+}
+
+TEST(MissionFile, YamlForms) {
+  const auto p = write_tmp("m1.yaml",
+                           "name: t\nis_translation: true\nwaypoints:\n  - [1, 2]\n"
+                           "  - {north: 3, east: 4, heading_deg: -90}\n");
+  const auto m = load_mission_file(p);
+  ASSERT_EQ(m.waypoints.size(), 2u);
+  EXPECT_TRUE(m.is_translation);
+  EXPECT_DOUBLE_EQ(m.waypoints[0].east, 2);
+  EXPECT_FALSE(m.waypoints[0].has_heading);
+  EXPECT_NEAR(m.waypoints[1].heading, -kPi / 2, 1e-12);
+  const auto path = to_path(m, 42, 7);
+  EXPECT_EQ(path.n_waypoints, 2);
+  EXPECT_EQ(path.path_id, 42);
+  EXPECT_DOUBLE_EQ(path.waypoints[1].position[0], 3);
+}
+
+TEST(MissionFile, CsvForms) {
+  const auto m = load_mission_file(src("config/missions/wayfinding.csv"));
+  ASSERT_EQ(m.waypoints.size(), 3u);
+  EXPECT_FALSE(m.waypoints[0].has_heading);
+  EXPECT_TRUE(m.waypoints[2].has_heading);
+  EXPECT_NEAR(m.waypoints[2].heading, kPi / 2, 1e-12);
+  const auto y = write_tmp("m2.yaml", "waypoints_csv: m2.csv\n");
+  write_tmp("m2.csv", "north,east\n1,1\n2,2\n");
+  EXPECT_EQ(load_mission_file(y).waypoints.size(), 2u);
+}
+
+void expect_error(const std::string& path, const std::string& needle) {
+  try {
+    load_mission_file(path);
+    FAIL() << "expected an error for " << path;
+  } catch (const config::Error& e) {
+    const std::string w = e.what();
+    EXPECT_NE(w.find(path), std::string::npos) << w;
+    EXPECT_NE(w.find(needle), std::string::npos) << w;
+  }
+}
+
+TEST(MissionFile, ErrorsNameFileLineAndWhat) {
+  expect_error(write_tmp("b1.csv", "north,east\n1,1\n2,x\n"), ":3:");
+  expect_error(write_tmp("b2.csv", "n,e\n1,1\n"), "header");
+  expect_error(write_tmp("b3.csv", "north,east\n"), "at least one");
+  expect_error(write_tmp("b4.yaml", "waypoints: []\n"), "waypoints");
+  expect_error(write_tmp("b5.yaml", "waypoints:\n  - {north: 1, east: 2, heading: 3}\n"),
+               "heading");
+  expect_error(write_tmp("b6.yaml", "name: x\n"), "waypoints");
+  expect_error(write_tmp("b7.yaml", "waypoints:\n  - [1, nan]\n"), "waypoints[0]");
+}
+
+TEST(MissionNode, PublishesPathThenModeAndArmRequest) {
+  const auto m = load_mission_file(src("config/missions/default.yaml"));
+  MissionNode node(m, 5, kUsPerSecond);
+  LockstepExecutor ex(0);
+  ex.add(node);
+  std::vector<std::string> order;
+  ex.observe([&](const std::string& ch, const std::uint8_t*, int, TimeUs) { order.push_back(ch); });
+  ex.run_until(1'500'000);
+  ASSERT_GE(order.size(), 6u);
+  EXPECT_EQ(order[0], channels::kPath);
+  EXPECT_EQ(order[1], channels::kMode);
+  EXPECT_EQ(order[2], channels::kArmRequest);
+  EXPECT_EQ(node.sent(), 2);  // at 0 s and 1 s
+}
+
+}  // namespace
+}  // namespace tiller::mission

@@ -1,0 +1,64 @@
+// Scores: hand-computed cross-track, completion, final errors and the VRX formulas.
+#include <gtest/gtest.h>
+
+#include <cmath>
+
+#include "scores/scores.hpp"
+
+namespace tiller::scores {
+namespace {
+
+TEST(Scores, VrxError) {
+  EXPECT_DOUBLE_EQ(vrx_error(0, 0.5), 0.5);
+  EXPECT_DOUBLE_EQ(vrx_error(2, 1.0), 2 + 0.5625);
+  EXPECT_DOUBLE_EQ(vrx_error(1, 0), 1);
+}
+
+TEST(Scores, DistanceToPath) {
+  const std::vector<Goal> p{{0, 0}, {10, 0}, {10, 10}};
+  EXPECT_DOUBLE_EQ(distance_to_path(5, 2, p), 2);
+  EXPECT_DOUBLE_EQ(distance_to_path(12, 5, p), 2);
+  EXPECT_DOUBLE_EQ(distance_to_path(-3, -4, p), 5);  // beyond the first point
+  EXPECT_DOUBLE_EQ(distance_to_path(3, 4, {{0, 0}}), 5);
+}
+
+TEST(Scores, PathScoresByHand) {
+  Goal g{10, 0, true, 0.0};
+  const std::vector<Goal> path{{0, 0}, g};
+  // 1 m off the path, then on it, then at the goal with a 0.2 rad heading error.
+  const std::vector<Pose> run{{0, 0, 1, 0}, {1, 5, 0, 0}, {2, 9.5, 0, 0.2}, {3, 10, 0, 0.2}};
+  const auto s = score_path(run, path, 0.0, 2.0, 1.5);          // visit radius 1.5 m
+  EXPECT_NEAR(s.cross_track_rms, std::sqrt(1.0 / 3.0), 1e-12);  // samples at t = 0, 1, 2
+  EXPECT_DOUBLE_EQ(s.cross_track_max, 1.0);
+  EXPECT_DOUBLE_EQ(s.time_to_complete, 2.0);
+  EXPECT_EQ(s.waypoints_reached, 2);
+  EXPECT_EQ(s.waypoints_missed, 0);
+  EXPECT_DOUBLE_EQ(s.final_position_error, 0.0);
+  EXPECT_NEAR(s.final_heading_error, 0.2, 1e-12);
+  // Wayfinding: first point best E = 1 (t = 0, no heading); goal best E = 0 + 0.2.
+  EXPECT_NEAR(s.vrx_wayfinding, (1.0 + 0.2) / 2, 1e-12);
+  // Without the follower's completion time: the time the last point was reached in order.
+  EXPECT_DOUBLE_EQ(score_path(run, path, 0.0, std::nullopt, 1.5).time_to_complete, 2.0);
+}
+
+TEST(Scores, MissedWaypointsAndNoCompletion) {
+  const std::vector<Goal> path{{0, 0}, {10, 0}, {10, 10}};
+  const std::vector<Pose> run{{0, 0, 0, 0}, {1, 8, 0, 0}, {2, 8, 8, 0}};
+  const auto s = score_path(run, path, 0.0);
+  EXPECT_EQ(s.waypoints_reached, 1);
+  EXPECT_EQ(s.waypoints_missed, 2);
+  EXPECT_DOUBLE_EQ(s.time_to_complete, -1);
+  EXPECT_DOUBLE_EQ(s.final_heading_error, -1);  // no goal heading
+}
+
+TEST(Scores, VrxStationKeeping) {
+  const Goal g{0, 0, true, 0};
+  const std::vector<Pose> run{{0, 3, 4, 0}, {1, 0, 0, 0.5}, {2, 1, 0, 0}, {3, 0, 0, 0}};
+  // Window [1, 2]: E = 0.5 and 1.
+  EXPECT_DOUBLE_EQ(vrx_station_keeping(run, g, 1, 2), 0.75);
+  EXPECT_DOUBLE_EQ(max_distance(run, g, 0, 3), 5);
+  EXPECT_DOUBLE_EQ(vrx_station_keeping(run, g, 10, 20), -1);
+}
+
+}  // namespace
+}  // namespace tiller::scores
