@@ -19,6 +19,7 @@
 #include <tiller/arm_state_t.hpp>
 #include <tiller/esc_output_t.hpp>
 #include <tiller/manual_demand_t.hpp>
+#include <tiller/thruster_command_t.hpp>
 
 #include "e2e_config.hpp"
 #include "e2e_util.hpp"
@@ -40,12 +41,24 @@ struct Rx {
   }
   void on_demand(const lcm::ReceiveBuffer*, const std::string&, const manual_demand_t* m) {
     valid = m->valid;
+    if (m->demand[0] != d0) {
+      d0 = m->demand[0];
+      t_demand = realtime_us();
+    }
+  }
+  void on_cmd(const lcm::ReceiveBuffer*, const std::string&, const thruster_command_t* m) {
+    const double c = m->n_thrusters > 0 ? m->command[0] : 0.0;
+    if (c != c0) {
+      c0 = c;
+      t_cmd = realtime_us();
+    }
   }
   void on_bare(const lcm::ReceiveBuffer*, const std::string&) {
     t_bare = realtime_us();
     ++n_bare;
   }
-  std::int64_t t_esc = 0, t_bare = 0;
+  std::int64_t t_esc = 0, t_bare = 0, t_demand = 0, t_cmd = 0;
+  double d0 = 0, c0 = 0;
   int t1 = 0;
   bool armed = false, arm = false, valid = false;
   long n_esc = 0, n_bare = 0;
@@ -66,8 +79,8 @@ void report(const char* what, std::vector<double> v) {
   auto q = [&](double p) {
     return v[static_cast<std::size_t>(p * static_cast<double>(v.size() - 1))];
   };
-  std::printf("%-34s n=%6zu  p50 %8.1f us  p90 %8.1f us  p99 %8.1f us  max %9.1f us\n", what,
-              v.size(), q(0.5), q(0.9), q(0.99), v.back());
+  std::printf("%-38s n=%6zu  min %7.1f  p50 %7.1f  p90 %7.1f  p99 %7.1f  max %8.1f us\n", what,
+              v.size(), v.front(), q(0.5), q(0.9), q(0.99), v.back());
 }
 
 double median(std::vector<double> v) {
@@ -93,6 +106,7 @@ int main(int argc, char** argv) {
   l.subscribe("TILLER_ESC_OUTPUT", &Rx::on_esc, &rx);
   l.subscribe("TILLER_ARM_STATE", &Rx::on_arm, &rx);
   l.subscribe("TILLER_MANUAL_DEMAND", &Rx::on_demand, &rx);
+  l.subscribe("TILLER_THRUSTER_COMMAND", &Rx::on_cmd, &rx);
   l.subscribe("BENCH_BARE_3", &Rx::on_bare, &rx);
 
   const std::string src = TILLER_SOURCE_DIR, bin = TILLER_BIN_DIR;
@@ -133,8 +147,9 @@ int main(int argc, char** argv) {
   }
 
   std::mt19937 rng(1234);
-  std::uniform_real_distribution<double> gap_ms(1.0, 3.0);
-  std::vector<double> tiller_us, bare_us;
+  // Gaps spread over more than one ESC period (10 ms), so events do not lock to its tick phase.
+  std::uniform_real_distribution<double> gap_ms(1.0, 12.0);
+  std::vector<double> tiller_us, bare_us, demand_us, cmd_us;
   tiller_us.reserve(static_cast<std::size_t>(n_events));
   bare_us.reserve(static_cast<std::size_t>(n_events));
   const int positions[2] = {-32767, -24000};  // both forward; distinct throttles
@@ -149,6 +164,8 @@ int main(int argc, char** argv) {
       if (pump(
               l, [&] { return rx.t1 != before; }, 0.5)) {
         tiller_us.push_back(static_cast<double>(rx.t_esc - t0));
+        if (rx.t_demand >= t0) demand_us.push_back(static_cast<double>(rx.t_demand - t0));
+        if (rx.t_cmd >= t0) cmd_us.push_back(static_cast<double>(rx.t_cmd - t0));
       } else {
         ++lost_tiller;
       }
@@ -171,6 +188,8 @@ int main(int argc, char** argv) {
               n_events);
   report("three bare LCM hops (FIFO+3 procs)", bare_us);
   report("tiller teleop -> mixer -> esc", tiller_us);
+  if (!demand_us.empty()) report("  of which: event -> MANUAL_DEMAND", demand_us);
+  if (!cmd_us.empty()) report("  of which: event -> THRUSTER_COMMAND", cmd_us);
   const double mb = median(bare_us), mt = median(tiller_us);
   std::printf("Tiller adds %.1f%% to the bare hops at p50 (%.1f us vs %.1f us); target < 20%%\n",
               100.0 * (mt - mb) / mb, mt, mb);
