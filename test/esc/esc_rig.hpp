@@ -76,8 +76,9 @@ struct Rig {
   TimeUs now = 0;
 
   // Sim backend (or any backend over the fake bus): `yaml` is the whole config.
-  explicit Rig(const std::string& yaml, bool attach_models = true) {
-    const esc::EscConfig cfg = parse_config(yaml);
+  explicit Rig(const std::string& yaml, bool attach_models = true)
+      : Rig(parse_config(yaml), attach_models) {}
+  explicit Rig(const esc::EscConfig& cfg, bool attach_models = true) {
     if (attach_models && (cfg.backend == "i2c_tgy")) {
       for (const auto& e : cfg.escs) {
         auto m = std::make_unique<esc::fake::TgyEscModel>();
