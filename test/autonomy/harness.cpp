@@ -41,8 +41,10 @@ RunResult run_mission(const RunConfig& c) {
         std::make_unique<SimplePlant>(c.current_speed, from, s.north, s.east, s.heading));
   }
   const auto groot = config::Value::load_file(source_path(c.guidance_file));
-  guidance::PathFollowerNode follower(guidance::load_follower_node_params(groot));
+  auto fparams = guidance::load_follower_node_params(groot);
   groot.check_all_used();
+  if (c.tweak_follower) c.tweak_follower(fparams);
+  guidance::PathFollowerNode follower(fparams);
   const auto croot = source_path(c.control_file);
   control::VelocityPidNode vpid(
       control::load_velocity_pid_node_params(config::Value::load_file(croot)));

@@ -9,6 +9,7 @@
 #include <string>
 #include <vector>
 
+#include "guidance/follower_config.hpp"
 #include "mission/mission.hpp"
 #include "runtime/node.hpp"
 #include "scores/scores.hpp"
@@ -27,6 +28,8 @@ struct RunConfig {
                                                    double current_from_rad)>
       make_plant;
   std::string pose_channel = "TILLER_ODOMETRY";  // ground truth when the plant has it
+  // Changes the follower's parameters after loading (benchmark variants).
+  std::function<void(guidance::FollowerNodeParams&)> tweak_follower;
 };
 
 struct RunResult {
