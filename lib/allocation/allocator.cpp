@@ -138,6 +138,8 @@ Allocator::Allocator(const Vehicle& vehicle)
       if (!pos.empty()) g.levels.push_back(pos);
     }
   }
+  solve_.resize(n_, 6);
+  for (int ax = 0; ax < 6; ++ax) solve_.col(ax) = solve_unconstrained(Wrench::Unit(ax));
   // Largest achievable along each axis alone (manual demand scaling).
   for (int ax = 0; ax < 6; ++ax) {
     for (int s = 0; s < 2; ++s) {
@@ -163,13 +165,10 @@ Allocator::Allocator(const Vehicle& vehicle)
     full_scale_.setOnes();
     for (std::size_t j = 0; j < mix_axes_.size(); ++j) {
       ThrustVec f(n_);
-      double m = mix_.col(static_cast<Eigen::Index>(j)).cwiseAbs().maxCoeff();
-      if (!(m > 0)) throw std::invalid_argument(who + "mixing matrix has an all-zero column");
-      m = std::max(m, 1.0);
       for (int i = 0; i < n_; ++i)
-        f(i) = vehicle.thrusters[static_cast<std::size_t>(i)].thrust_from_command(
-            mix_(i, static_cast<Eigen::Index>(j)) / m);
-      const double w = (b_ * f)(mix_axes_[j]) * m;
+        f(i) = mix_(i, static_cast<Eigen::Index>(j)) *
+               vehicle.thrusters[static_cast<std::size_t>(i)].max_forward_n;
+      const double w = (b_ * f)(mix_axes_[j]);
       if (!(std::abs(w) > 1e-9))
         throw std::invalid_argument(
             who + "mixing matrix column " +
@@ -263,7 +262,17 @@ bool Allocator::allocate(const Wrench& tau, AllocationResult& out) const {
     allocate_matrix(norm, out);
     return true;
   }
-  ThrustVec f = ThrustVec::Zero(n_);
+  // Fast path: the exact solution fits every thruster's limits -> every strategy agrees.
+  ThrustVec f = solve_ * tau;
+  bool fits = true;
+  for (int i = 0; i < n_; ++i)
+    fits = fits && f(i) <= hi_[static_cast<std::size_t>(i)] &&
+           f(i) >= lo_[static_cast<std::size_t>(i)];
+  if (fits) {
+    finish(f, out);
+    return true;
+  }
+  f.setZero();
   for (const Group& g : groups_) {
     const auto na = static_cast<Eigen::Index>(g.axes.size());
     Small target(na);
@@ -292,15 +301,35 @@ bool Allocator::allocate(const Wrench& tau, AllocationResult& out) const {
         break;
       }
       case Strategy::kPrioritised: {
+        // Levels in order, each as far as the room left allows. Each level's thrust pattern
+        // makes only its own axes (B * pinv = I), so later passes can give an earlier level
+        // room that a later level freed, without touching what the others got.
         fg = b;
         if (max_scale(g, ThrustVec::Zero(b.size()), b) < 0) clamp_group(g, fg);
+        Small left = target;
+        for (int pass = 0; pass < 4; ++pass) {
+          bool progress = false;
+          for (const auto& level : g.levels) {
+            Small part = Small::Zero(na);
+            for (int k : level) part(k) = left(k);
+            if (part.cwiseAbs().maxCoeff() <= 0.0) continue;
+            const ThrustVec v = g.pinv * part;
+            const double alpha = std::min(1.0, max_scale(g, v, fg));
+            if (alpha > 1e-12) {
+              fg += alpha * v;
+              for (int k : level) left(k) *= 1.0 - alpha;
+              progress = true;
+            }
+          }
+          if (!progress) break;
+        }
         for (const auto& level : g.levels) {
-          Small part = Small::Zero(na);
-          for (int k : level) part(k) = target(k);
-          const ThrustVec v = g.pinv * part;
-          const double alpha = std::min(1.0, max_scale(g, v, fg));
-          if (alpha > 0) fg += alpha * v;
-          out.scale = std::min(out.scale, std::max(alpha, 0.0));
+          double l2 = 0, t2 = 0;
+          for (int k : level) {
+            l2 += left(k) * left(k);
+            t2 += target(k) * target(k);
+          }
+          if (t2 > 0) out.scale = std::min(out.scale, 1.0 - std::sqrt(l2 / t2));
         }
         break;
       }
@@ -315,7 +344,9 @@ bool Allocator::allocate(const Wrench& tau, AllocationResult& out) const {
       num += out.achieved(ax) * tau(ax);
       den += tau(ax) * tau(ax);
     }
-    out.scale = den > 0 ? std::clamp(num / den, 0.0, 1.0) : 1.0;
+    bool clipped = false;
+    for (int i = 0; i < n_; ++i) clipped = clipped || out.saturated[static_cast<std::size_t>(i)];
+    out.scale = den > 0 && clipped ? std::clamp(num / den, 0.0, 1.0) : 1.0;
   }
   return true;
 }
@@ -374,24 +405,22 @@ void Allocator::allocate_matrix(const Wrench& tau_norm, AllocationResult& out) c
   Eigen::Matrix<double, Eigen::Dynamic, 1, 0, 6, 1> x(static_cast<Eigen::Index>(mix_axes_.size()));
   for (std::size_t j = 0; j < mix_axes_.size(); ++j)
     x(static_cast<Eigen::Index>(j)) = tau_norm(mix_axes_[j]);
-  ThrustVec u = mix_ * x;
+  const ThrustVec sv = mix_ * x;
+  ThrustVec f(n_);
+  for (int i = 0; i < n_; ++i)
+    f(i) = sv(i) * vehicle_.thrusters[static_cast<std::size_t>(i)].max_forward_n;
   out.target.setZero();
   for (int ax : mix_axes_) out.target(ax) = tau_norm(ax) * full_scale_(ax);
   for (const Group& g : groups_) {
-    double m = 0;
-    for (int i : g.idx) m = std::max(m, std::abs(u(i)));
-    if (m > 1.0) {
-      if (strategy_ == Strategy::kClip) {
-        for (int i : g.idx) u(i) = std::clamp(u(i), -1.0, 1.0);
-      } else {
-        for (int i : g.idx) u(i) /= m;  // ratio-keeping normalisation
-        out.scale = std::min(out.scale, 1.0 / m);
-      }
+    if (strategy_ == Strategy::kClip) continue;  // finish() clips
+    ThrustVec fg(static_cast<Eigen::Index>(g.idx.size()));
+    for (std::size_t k = 0; k < g.idx.size(); ++k) fg(static_cast<Eigen::Index>(k)) = f(g.idx[k]);
+    const double mu = max_scale(g, fg, ThrustVec::Zero(fg.size()));
+    if (mu < 1.0) {  // ratio-keeping normalisation
+      for (int i : g.idx) f(i) *= mu;
+      out.scale = std::min(out.scale, mu);
     }
   }
-  ThrustVec f(n_);
-  for (int i = 0; i < n_; ++i)
-    f(i) = vehicle_.thrusters[static_cast<std::size_t>(i)].thrust_from_command(u(i));
   finish(f, out);
 }
 

@@ -22,10 +22,12 @@
 //                         each as far as the remaining room allows: earlier levels are met
 //                         exactly whenever they fit on their own;
 //   clip                  unconstrained solution clipped per thruster (for comparison only).
-// Explicit-matrix vehicles (seed tables): command u = M * tau_norm with tau_norm_j =
-// tau_j / full_scale_j (full_scale: the wrench one unit of axis j gives, from the geometry);
-// ratio-keeping normalisation per group when some |u| > 1. The achieved wrench is still B *
-// thrust from the geometry, so a table that does not match the hull shows in the status.
+// Explicit-matrix vehicles (seed tables): s = M * tau_norm with tau_norm_j = tau_j /
+// full_scale_j (full_scale: the wrench one unit of axis j gives, from the geometry); thrust_i =
+// s_i * thrust_max_i (so with equal, symmetric thrusters s is the seed's command); ratio-keeping
+// normalisation per group: when some thrust is beyond its limit, the group's thrusts are all
+// divided by the same factor (never scaled up). The achieved wrench is still B * thrust from
+// the geometry, so a table that does not match the hull shows in the status.
 // Manual open-loop demand (allocate_manual): seed 000's two conditions, per group: the achieved
 // wrench on the group's axes points along the stick vector J (each axis weighted by its own
 // largest achievable value in that sign), and its size over the largest achievable in that
@@ -88,6 +90,12 @@ class Allocator {
   ThrustVec solve_unconstrained(const Wrench& tau) const;
   // Explicit-matrix vehicles: wrench per unit of each axis (tau_norm = tau / full_scale).
   const Wrench& full_scale() const { return full_scale_; }
+  // Owned axes of each group, in solve order.
+  std::vector<std::vector<int>> group_axes() const {
+    std::vector<std::vector<int>> out;
+    for (const auto& g : groups_) out.push_back(g.axes);
+    return out;
+  }
   // One line per group: name, thrusters, owned axes, order.
   std::string describe() const;
   const Vehicle& vehicle() const { return vehicle_; }
@@ -123,6 +131,9 @@ class Allocator {
   std::array<double, kMaxThrusters> lo_{}, hi_{};
   std::array<std::array<double, 6>, 2> axis_max_{};
   Eigen::Matrix<double, Eigen::Dynamic, Eigen::Dynamic, 0, kMaxThrusters, 6> mix_;
+  // The whole unconstrained cascade as one linear map (thrust = solve_ * tau): the fast path
+  // when nothing saturates.
+  Eigen::Matrix<double, Eigen::Dynamic, 6, 0, kMaxThrusters, 6> solve_;
   std::vector<int> mix_axes_;
   Wrench full_scale_ = Wrench::Ones();
 };
