@@ -1,0 +1,259 @@
+// MixerNode in the lockstep executor: neutral while disarmed or without a valid source; output
+// at once on new input and at the configured rate; stale inputs become absent; NaN or
+// out-of-range input gives neutral and a counter; the arbitration picks the source and its
+// absence falls back to the config's source; config paths resolve from any directory.
+#include <gtest/gtest.h>
+
+#include <cmath>
+#include <filesystem>
+#include <fstream>
+#include <vector>
+
+#include "mixer/mixer_node.hpp"
+#include "runtime/channels.hpp"
+#include "runtime/lockstep.hpp"
+
+namespace tiller {
+namespace {
+
+const std::string kSrc = TILLER_SOURCE_DIR;
+
+struct Seen {
+  TimeUs t;
+  thruster_command_t cmd;
+};
+
+class MixerTest : public ::testing::Test {
+ protected:
+  void SetUp() override { start("seed000_rov4"); }
+  void start(const std::string& vehicle) {
+    node = std::make_unique<MixerNode>(kSrc + "/config/mixer/" + vehicle + ".yaml");
+    ex = std::make_unique<LockstepExecutor>(0);
+    ex->add(*node);
+    ex->observe([this](const std::string& ch, const std::uint8_t* d, int n, TimeUs t) {
+      if (ch == channels::kThrusterCommand) {
+        Seen s{t, {}};
+        ASSERT_EQ(s.cmd.decode(d, 0, n), n);
+        seen.push_back(s);
+      } else if (ch == channels::kAllocationStatus) {
+        ASSERT_EQ(status.decode(d, 0, n), n);
+        ++statuses;
+      }
+    });
+  }
+  void arm(TimeUs at, bool armed = true) {
+    arm_state_t a{};
+    a.utime = at;
+    a.armed = armed;
+    ex->inject(channels::kArmState, a, at);
+  }
+  void manual(TimeUs at, double x, double y, double n = 0, bool valid = true) {
+    manual_demand_t m{};
+    m.utime = at;
+    m.demand[0] = x;
+    m.demand[1] = y;
+    m.demand[5] = n;
+    m.valid = valid;
+    ex->inject(channels::kManualDemand, m, at);
+  }
+  void wrench(const char* ch, TimeUs at, double x, double nn = 0, std::int8_t src = 2) {
+    wrench_t w{};
+    w.utime = at;
+    w.source = src;
+    w.tau[0] = x;
+    w.tau[5] = nn;
+    w.valid = true;
+    ex->inject(ch, w, at);
+  }
+  void arbitration(TimeUs at, std::int8_t source) {
+    arbitration_t a{};
+    a.utime = at;
+    a.active_source = source;
+    a.reason = "test";
+    ex->inject(channels::kArbitration, a, at);
+  }
+  bool neutral(const thruster_command_t& c) {
+    for (double v : c.command)
+      if (v != 0.0) return false;
+    return true;
+  }
+  std::unique_ptr<MixerNode> node;
+  std::unique_ptr<LockstepExecutor> ex;
+  std::vector<Seen> seen;
+  allocation_status_t status{};
+  int statuses = 0;
+};
+
+TEST_F(MixerTest, NeutralWhileDisarmedThenFollowsTheStickAtOnce) {
+  manual(5'000, 1.0, 0.5);
+  ex->run_until(100'000);
+  ASSERT_FALSE(seen.empty());
+  for (const auto& s : seen) {
+    EXPECT_FALSE(s.cmd.armed);
+    EXPECT_TRUE(neutral(s.cmd));
+  }
+  EXPECT_GT(node->counter_value("neutral.disarmed"), 0);
+  arm(105'000);
+  manual(107'000, 1.0, 0.5);  // between ticks (20 ms grid): answered at 107 ms, not 120 ms
+  ex->run_until(107'000);
+  ASSERT_EQ(seen.back().t, 107'000);
+  const auto& c = seen.back().cmd;
+  EXPECT_TRUE(c.armed);
+  EXPECT_EQ(c.source, wrench_t::SOURCE_MANUAL_DEMAND);
+  ASSERT_EQ(c.n_thrusters, 4);
+  EXPECT_EQ(c.names[0], "t1");
+  // Seed 000: stick (jx = 0.5 right, jy = 1 forward) is nearer the 2,4 axis: a = 1 on t2 and
+  // t4, b = tan(45 deg - 63.4 deg) in size = 1/3 on t1 and t3 (seeds_test has the whole grid).
+  AllocationResult r;
+  Wrench j = Wrench::Zero();
+  j(0) = 1.0;
+  j(1) = 0.5;
+  node->allocator().allocate_manual(j, r);
+  for (int i = 0; i < 4; ++i)
+    EXPECT_EQ(c.command[static_cast<std::size_t>(i)], r.command[static_cast<std::size_t>(i)]);
+  EXPECT_NEAR(c.command[1], 1.0, 1e-12);
+  EXPECT_NEAR(c.command[3], -1.0, 1e-12);
+  EXPECT_NEAR(std::abs(c.command[0]), 1.0 / 3, 1e-12);
+  // The status goes out with every command.
+  EXPECT_EQ(status.n_thrusters, 4);
+  EXPECT_EQ(status.strategy, "direction_preserving");
+  EXPECT_TRUE(status.axis_unactuated[2]);
+  EXPECT_EQ(status.demanded[0], 1.0);
+}
+
+TEST_F(MixerTest, PublishesAtTheConfiguredRate) {
+  ex->run_until(1'000'000 - 1);
+  EXPECT_EQ(seen.size(), 50u);  // 50 Hz, ticks at 0, 20, ..., 980 ms
+  EXPECT_EQ(statuses, 50);
+}
+
+TEST_F(MixerTest, StaleInputsBecomeNeutral) {
+  // Arm state refreshed until 2 s (as tiller-esc does at 10 Hz); the stick stops at 0 s.
+  for (TimeUs t = 0; t <= 2'000'000; t += 100'000) arm(t);
+  manual(0, 0.5, 0);
+  ex->run_until(480'000);
+  EXPECT_FALSE(neutral(seen.back().cmd));
+  ex->run_until(520'000);  // manual freshness 0.5 s
+  EXPECT_TRUE(neutral(seen.back().cmd));
+  EXPECT_FALSE(seen.back().cmd.armed);
+  EXPECT_GE(node->stale(), 1);
+  EXPECT_GT(node->counter_value("neutral.no_valid_input"), 0);
+  // A stale arm state also means neutral: stick fresh again, esc silent.
+  for (TimeUs t = 2'100'000; t <= 3'000'000; t += 20'000) manual(t, 0.5, 0);
+  ex->run_until(2'450'000);
+  EXPECT_FALSE(neutral(seen.back().cmd));
+  ex->run_until(2'600'000);  // last arm state at 2.0 s, limit 0.5 s
+  EXPECT_TRUE(neutral(seen.back().cmd));
+}
+
+TEST_F(MixerTest, InvalidStickIsAbsentAndOutOfRangeIsCounted) {
+  arm(0);
+  manual(0, 0.5, 0);
+  ex->run_until(10'000);
+  EXPECT_FALSE(neutral(seen.back().cmd));
+  manual(20'000, 0.5, 0, 0, /*valid=*/false);
+  ex->run_until(20'000);
+  EXPECT_TRUE(neutral(seen.back().cmd));
+  manual(30'000, 0.5, 0);
+  manual(40'000, 1.5, 0);  // out of [-1, 1]
+  ex->run_until(40'000);
+  EXPECT_TRUE(neutral(seen.back().cmd));
+  EXPECT_EQ(node->counter_value("rejected.manual_demand.range"), 1);
+  manual(50'000, std::nan(""), 0);
+  ex->run_until(60'000);
+  EXPECT_TRUE(neutral(seen.back().cmd));
+  EXPECT_EQ(node->counter_value("rejected.manual_demand.range"), 2);
+  EXPECT_EQ(node->rejected(), 2);
+}
+
+TEST_F(MixerTest, ArbitrationChoosesTheWrenchAndNanGivesNeutral) {
+  arm(0);
+  for (TimeUs t = 0; t <= 3'000'000; t += 100'000) arm(t);
+  manual(0, 0.5, 0);
+  arbitration(0, wrench_t::SOURCE_VELOCITY_PID);
+  wrench(channels::kWrenchVelocity, 0, 20.0);
+  wrench(channels::kWrenchStation, 0, -10.0);
+  ex->run_until(10'000);
+  EXPECT_EQ(seen.back().cmd.source, wrench_t::SOURCE_VELOCITY_PID);
+  EXPECT_NEAR(node->last_result().achieved(0), 20.0, 1e-9);
+  arbitration(20'000, wrench_t::SOURCE_STATION_KEEP);
+  ex->run_until(20'000);
+  EXPECT_EQ(seen.back().cmd.source, wrench_t::SOURCE_STATION_KEEP);
+  EXPECT_NEAR(node->last_result().achieved(0), -10.0, 1e-9);
+  // NaN on the active source: neutral at once, counted.
+  wrench_t bad{};
+  bad.valid = true;
+  bad.tau[5] = std::nan("");
+  ex->inject(channels::kWrenchStation, bad, 30'000);
+  ex->run_until(30'000);
+  EXPECT_TRUE(neutral(seen.back().cmd));
+  EXPECT_EQ(node->counter_value("rejected.wrench.range"), 1);
+  wrench(channels::kWrenchStation, 40'000, 2e5);  // beyond +-1e5
+  ex->run_until(40'000);
+  EXPECT_TRUE(neutral(seen.back().cmd));
+  EXPECT_EQ(node->counter_value("rejected.wrench.range"), 2);
+  // SOURCE_NONE: neutral even though a wrench is fresh.
+  wrench(channels::kWrenchVelocity, 50'000, 20.0);
+  arbitration(50'000, wrench_t::SOURCE_NONE);
+  ex->run_until(50'000);
+  EXPECT_TRUE(neutral(seen.back().cmd));
+  // Arbitration goes stale (1 s): fallback_source manual_demand.
+  for (TimeUs t = 100'000; t <= 3'000'000; t += 50'000) manual(t, 0.3, 0);
+  ex->run_until(1'100'000);
+  EXPECT_EQ(seen.back().cmd.source, wrench_t::SOURCE_MANUAL_DEMAND);
+  EXPECT_FALSE(neutral(seen.back().cmd));
+}
+
+TEST(SelectSource, OnePlaceDecides) {
+  EXPECT_EQ(select_source(true, wrench_t::SOURCE_STATION_KEEP, wrench_t::SOURCE_MANUAL_DEMAND),
+            wrench_t::SOURCE_STATION_KEEP);
+  EXPECT_EQ(select_source(false, wrench_t::SOURCE_STATION_KEEP, wrench_t::SOURCE_MANUAL_DEMAND),
+            wrench_t::SOURCE_MANUAL_DEMAND);
+  EXPECT_EQ(select_source(true, wrench_t::SOURCE_NONE, wrench_t::SOURCE_MANUAL_DEMAND),
+            wrench_t::SOURCE_NONE);
+}
+
+TEST(MixerConfig, EveryPresetConfigLoadsFromAnyDirectory) {
+  const auto here = std::filesystem::current_path();
+  std::filesystem::current_path("/");
+  for (const char* v : {"seed000_rov4", "seed001_rov6", "seed004_usv_x", "seed004_usv_x_table",
+                        "seed004_usv_h", "otter", "wamv"}) {
+    MixerNode node(kSrc + "/config/mixer/" + v + ".yaml");
+    EXPECT_EQ(node.allocator().vehicle().name, v);
+    EXPECT_EQ(node.params().rate_hz, 50.0);
+  }
+  std::filesystem::current_path(here);
+}
+
+TEST(MixerConfig, BadFilesNameTheKey) {
+  const auto dir = std::filesystem::temp_directory_path() / "tiller_mixer_cfg";
+  std::filesystem::create_directories(dir);
+  auto write = [&](const std::string& text) {
+    const auto p = (dir / "m.yaml").string();
+    std::ofstream(p) << text;
+    return p;
+  };
+  auto error_of = [](const std::string& path) -> std::string {
+    try {
+      MixerNode n(path);
+    } catch (const config::Error& e) {
+      return e.what();
+    }
+    return "(no error)";
+  };
+  std::string e = error_of(write("vehicle: nowhere.yaml\n"));
+  EXPECT_NE(e.find("vehicle"), std::string::npos) << e;
+  EXPECT_NE(e.find("not found"), std::string::npos) << e;
+  e = error_of(write("vehicle: " + kSrc + "/config/vehicles/otter.yaml\nrate_hz: 0\n"));
+  EXPECT_NE(e.find("rate_hz"), std::string::npos) << e;
+  e = error_of(
+      write("vehicle: " + kSrc + "/config/vehicles/otter.yaml\nfallback_source: joystick\n"));
+  EXPECT_NE(e.find("fallback_source"), std::string::npos) << e;
+  e = error_of(write("vehicle: " + kSrc + "/config/vehicles/otter.yaml\nrate: 5\n"));
+  EXPECT_NE(e.find("rate"), std::string::npos) << e;
+  // Absolute vehicle path: fine from anywhere.
+  EXPECT_EQ(error_of(write("vehicle: " + kSrc + "/config/vehicles/otter.yaml\n")), "(no error)");
+}
+
+}  // namespace
+}  // namespace tiller
