@@ -86,9 +86,13 @@ void TeleopNode::process(const joystick_state_t& s, TimeUs now) {
     js_msg_.buttons.assign(s.buttons.begin(), s.buttons.end());
     if (!s.connected) std::fill(js_msg_.axes.begin(), js_msg_.axes.end(), 0);
     if (!s.connected) std::fill(js_msg_.buttons.begin(), js_msg_.buttons.end(), false);
-    publish(channels::kJoystick, js_msg_);
   }
+  apply_state(s, now);
+  // The raw state goes out after the demand, so the demand is the first packet on the wire.
+  if (input_ == Input::device) publish(channels::kJoystick, js_msg_);
+}
 
+void TeleopNode::apply_state(const joystick_state_t& s, TimeUs now) {
   if (!s.connected) {
     if (connected_) {
       ++*disconnects_;

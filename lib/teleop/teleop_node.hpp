@@ -58,6 +58,7 @@ class TeleopNode : public Node {
   void on_joystick(const joystick_state_t& s, TimeUs now);
   void on_odometry(const odometry_t& o, TimeUs now);
   void process(const joystick_state_t& s, TimeUs now);
+  void apply_state(const joystick_state_t& s, TimeUs now);
   void update_buttons(TimeUs now);
   void on_press(int button, TimeUs now);
   bool compute_demand();  // from raw_*; returns true if the output changed

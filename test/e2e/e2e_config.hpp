@@ -5,5 +5,5 @@
 
 namespace tiller::e2e {
 inline constexpr const char* kMixerConfig = "config/mixer/seed000_rov4.yaml";
-inline constexpr const char* kEscConfig = "test/e2e/data/esc_seed000_sim.yaml";
+inline constexpr const char* kEscConfig = "config/esc/seed000_sim.yaml";
 }  // namespace tiller::e2e

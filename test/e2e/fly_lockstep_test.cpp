@@ -102,7 +102,7 @@ std::vector<int> signs(const std::map<std::string, double>& u,
 
 TEST(FlyLockstep, Seed000RovFromTheExtreme3dPro) {
   Flight f("extreme3dpro_seed000.yaml", "config/mixer/seed000_rov4.yaml",
-           "test/e2e/data/esc_seed000_sim.yaml");
+           "config/esc/seed000_sim.yaml");
   f.hold(500);
   ASSERT_EQ(f.out.n_channels, 4);
   EXPECT_FALSE(f.out.armed);
@@ -145,7 +145,7 @@ TEST(FlyLockstep, Seed000RovFromTheExtreme3dPro) {
 
 TEST(FlyLockstep, Seed001RovFromTheExtreme3dProFiveDof) {
   Flight f("extreme3dpro_seed001.yaml", "config/mixer/seed001_rov6.yaml",
-           "test/e2e/data/esc_seed001_sim.yaml");
+           "config/esc/seed001_sim.yaml");
   f.hold(300);
   f.press(6);
   ASSERT_TRUE(f.arm.armed) << f.arm.reason;
