@@ -125,7 +125,7 @@ int run(int argc, char** argv) {
     lg.name = "logger";
     lg.command = "lcm-logger";
     lg.group = "logger";
-    lg.args = {"--channel=" + lf.logger.channels};
+    lg.args = {"--quiet", "--channel=" + lf.logger.channels};
     if (lf.logger.split_mb > 0) {
       lg.args.push_back("--split-mb=" + std::to_string(lf.logger.split_mb));
       lg.args.push_back("--increment");

@@ -3,6 +3,7 @@
 #include <cstdlib>
 #include <filesystem>
 #include <functional>
+#include <optional>
 #include <set>
 #include <stdexcept>
 
@@ -156,11 +157,19 @@ std::string substitute(const std::string& s, const std::map<std::string, std::st
     if (s[i] == '$' && i + 1 < s.size() && s[i + 1] == '{') {
       const auto end = s.find('}', i + 2);
       if (end == std::string::npos) throw std::invalid_argument("unterminated ${ in \"" + s + "\"");
-      const std::string name = s.substr(i + 2, end - i - 2);
+      std::string name = s.substr(i + 2, end - i - 2);
+      std::optional<std::string> fallback;
+      if (const auto dash = name.find(":-"); dash != std::string::npos) {
+        fallback = name.substr(dash + 2);
+        name = name.substr(0, dash);
+      }
+      const char* env = std::getenv(name.c_str());
       if (auto it = vars.find(name); it != vars.end()) {
         out += it->second;
-      } else if (const char* e = std::getenv(name.c_str())) {
-        out += e;
+      } else if (env && *env) {
+        out += env;
+      } else if (fallback) {
+        out += *fallback;
       } else {
         throw std::invalid_argument("unknown variable ${" + name + "} in \"" + s + "\"");
       }

@@ -12,7 +12,7 @@
 //   processes:
 //     - name: sim
 //       command: tiller-sim      # looked up next to tiller-launch first, then on PATH
-//       args: [--config, config/sim/usv.yaml]
+//       args: [--config, config/sim/usv.yaml, "--mission=${MISSION:-config/missions/default.yaml}"]
 //       env: {TILLER_X: "1"}
 //       group: sim
 //       depends_on: [esc]
@@ -78,7 +78,8 @@ struct LaunchFile {
 LaunchFile load_launch(const config::Value& root, const std::string& file_dir);
 LaunchFile load_launch_file(const std::string& path);
 
-// Replaces ${NAME} in s from vars (unknown names: from the environment; else an error naming it).
+// Replaces ${NAME} in s from vars, else the environment, else an error naming it;
+// ${NAME:-default} gives `default` when NAME is unset or empty.
 std::string substitute(const std::string& s, const std::map<std::string, std::string>& vars);
 
 // Which processes to run: all when both lists are empty; else those in one of `groups` or

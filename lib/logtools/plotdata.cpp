@@ -1,5 +1,6 @@
 #include "logtools/plotdata.hpp"
 
+#include <algorithm>
 #include <cmath>
 #include <cstdio>
 #include <fstream>
@@ -109,7 +110,7 @@ std::string gnuplot_script(const PlotData& d, const std::string& dir, const std:
                            const std::string& title) {
   std::ostringstream g;
   auto f = [&](const char* name) { return "'" + dir + "/" + name + "'"; };
-  g << "set terminal pngcairo size 1600,1200 font 'sans,10'\n"
+  g << "set terminal pngcairo size 1600,1200 font 'sans,10' noenhanced\n"
     << "set output '" << png << "'\n"
     << "set datafile separator ','\nset key top right font 'sans,8'\nset grid\n"
     << "set multiplot layout 3,2 title '" << title << "'\n";
@@ -138,10 +139,10 @@ std::string gnuplot_script(const PlotData& d, const std::string& dir, const std:
   g << "set title 'heading'\nset ylabel 'heading [deg]'\nset yrange [-180:180]\nset ytics 90\n";
   plot = "plot ";
   if (d.trajectory_rows)
-    plot += f("traj.csv") + " every ::1 using 1:4 with lines title 'heading', ";
+    plot += f("traj.csv") + " every ::1 using 1:4 with points pt 7 ps 0.3 title 'heading', ";
   if (d.setpoint_rows)
     plot +=
-        f("setpoint.csv") + " every ::1 using 1:3 with lines dt 2 lw 2 title 'target heading', ";
+        f("setpoint.csv") + " every ::1 using 1:3 with points pt 7 ps 0.2 title 'target heading', ";
   if (plot == "plot ") plot = "plot 0 notitle, ";
   g << plot.substr(0, plot.size() - 2) << "\nset autoscale y\nset ytics autofreq\n";
   // 4. Path-following errors.
@@ -169,7 +170,8 @@ std::string gnuplot_script(const PlotData& d, const std::string& dir, const std:
   // 6. Saturation.
   g << "set title 'allocation: scale kept and thrusters saturated'\nset ylabel 'scale'\nset "
        "y2label 'saturated thrusters'\n"
-    << "set yrange [0:1.05]\nset y2range [0:*]\nset y2tics\n";
+    << "set yrange [0:1.05]\nset y2range [0:" << std::max<std::size_t>(1, d.thruster_names.size())
+    << ".5]\nset y2tics 1\n";
   if (d.allocation_rows) {
     g << "plot " << f("alloc.csv")
       << " every ::1 using 1:2 with lines title 'scale (1 = demand met)', " << f("alloc.csv")

@@ -105,6 +105,8 @@ TEST(LaunchFile, BadFilesAreRefusedWithLineAndKey) {
 TEST(LaunchFile, Substitution) {
   EXPECT_EQ(substitute("--lcm-url=${LCM_URL}", {{"LCM_URL", "udpm://x"}}), "--lcm-url=udpm://x");
   EXPECT_THROW(substitute("${TILLER_NO_SUCH_VARIABLE_42}", {}), std::invalid_argument);
+  EXPECT_EQ(substitute("--m=${TILLER_NO_SUCH_VARIABLE_42:-a/b.yaml}", {}), "--m=a/b.yaml");
+  EXPECT_EQ(substitute("${LCM_URL:-x}", {{"LCM_URL", "y"}}), "y");
 }
 
 // ---------------------------------------------------------------- supervisor, fake host
@@ -414,6 +416,38 @@ TEST(LaunchProcess, EndsWithGivesTheRunsExitStatusAndBadFileGivesTwo) {
         "no-such-program-xyz}\n");
     EXPECT_EQ(l.wait_exit(), kExitUsage);
   }
+}
+
+}  // namespace
+}  // namespace tiller::launch
+
+namespace tiller::launch {
+namespace {
+
+// Every shipped launch file loads, passes `tiller-launch --check` (every program exists), and
+// every config/... path in its arguments names a file in the tree.
+TEST(LaunchFiles, EveryShippedFileChecksAndNamesExistingFiles) {
+  const std::string root = TILLER_SOURCE_DIR;
+  int n = 0;
+  for (const auto& e : fs::directory_iterator(root + "/config/launch")) {
+    if (e.path().extension() != ".yaml") continue;
+    ++n;
+    SCOPED_TRACE(e.path().string());
+    const LaunchFile lf = load_launch_file(e.path().string());
+    EXPECT_EQ(fs::canonical(lf.root), fs::canonical(root));
+    for (const auto& p : lf.processes) {
+      for (const auto& raw : p.args) {
+        const std::string a = substitute(raw, {{"LCM_URL", lf.lcm_url}});
+        const auto pos = a.find("config/");
+        if (pos == std::string::npos) continue;
+        EXPECT_TRUE(fs::exists(root + "/" + a.substr(pos))) << p.name << ": " << a;
+      }
+    }
+    const std::string cmd = std::string(TILLER_BIN_DIR) + "/tiller-launch --check " +
+                            e.path().string() + " > /dev/null";
+    EXPECT_EQ(std::system(cmd.c_str()), 0);
+  }
+  EXPECT_GE(n, 5);
 }
 
 }  // namespace
