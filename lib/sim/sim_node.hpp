@@ -1,0 +1,117 @@
+// tiller-sim's logic: the vehicle simulator as a node. It turns what the ESC bus driver puts on
+// the bus (TILLER_ESC_OUTPUT, hardware units) into thrust through each thruster's curve and lag,
+// steps the Fossen model (lib/sim/vessel_model.hpp) on its fixed step, and publishes
+//   TILLER_ODOMETRY      pose NED + body FRD velocity over ground (with optional seeded noise),
+//   TILLER_GROUND_TRUTH  the same without noise,
+//   TILLER_SIM_STATE     eta, nu, nu_r, current, thrust per thruster,
+// each at its configured rate (a multiple of the step). Runs live (tiller-sim) or in lockstep
+// with the other nodes (LockstepExecutor) on simulated time; no clock, no file after loading.
+//
+// ESC output -> thrust: UNIT_THROTTLE_INT16 value / throttle_full_scale, or UNIT_PULSE_US mapped
+// by the config's pulse min / neutral / max (1500 + u (max - 1500) for u > 0, 1500 + u (1500 -
+// min) otherwise, inverted) gives the motor's command; a thruster with `reversed: true` had its
+// sign flipped by tiller-esc, so the simulator flips it back into Tiller's convention and then
+// uses Thruster::thrust_from_command (lib/vehicle, the same curve the mixer inverts).
+// Disarmed output, or none fresher than esc_timeout, commands zero thrust; the lag then decays
+// the thrust as spinning-down propellers would. A message with an unknown thruster name, an
+// unknown unit or a value out of range is dropped and counted (the last good one stays, until
+// it goes stale).
+#pragma once
+
+#include <array>
+#include <cstdint>
+#include <string>
+
+#include <tiller/esc_output_t.hpp>
+#include <tiller/odometry_t.hpp>
+#include <tiller/sim_state_t.hpp>
+
+#include "core/config.hpp"
+#include "core/time.hpp"
+#include "runtime/node.hpp"
+#include "sim/dynamics.hpp"
+#include "sim/environment.hpp"
+#include "sim/vessel_model.hpp"
+#include "vehicle/vehicle.hpp"
+
+namespace tiller {
+
+struct SimParams {
+  std::string vehicle_file;  // resolved path of the vehicle description
+  TimeUs step_us = 10'000;   // integration step (and tick period)
+  TimeUs odometry_period_us = 50'000;
+  TimeUs ground_truth_period_us = 50'000;
+  TimeUs sim_state_period_us = 50'000;
+  TimeUs esc_timeout_us = 500'000;  // ESC output older than this commands zero thrust
+  double pulse_min_us = 1100, pulse_neutral_us = 1500, pulse_max_us = 1900;
+  double throttle_full_scale = 32767;
+  int max_steps_per_tick = 100;  // live: a late tick catches up at most this many steps
+  sim::Vector6 initial_eta = sim::Vector6::Zero();  // [n e d] m, [roll pitch yaw] rad
+  sim::Vector6 initial_nu = sim::Vector6::Zero();   // body FRD, m/s, rad/s
+  std::uint64_t seed = 1;
+  sim::CurrentParams current;
+  bool wind_enabled = false;
+  sim::WindParams wind;
+  sim::OdometryNoiseParams noise;
+};
+
+// Reads config/sim/*.yaml strictly. `vehicle:` is resolved relative to the config file's folder
+// first, then to the current directory.
+SimParams load_sim_params(const config::Value& root);
+
+// A vehicle file read for the simulator: the thrusters (lib/vehicle) and the dynamics (lib/sim),
+// with every key of the file checked.
+struct SimVehicle {
+  Vehicle vehicle;
+  sim::DynamicsParams dynamics;
+};
+SimVehicle load_sim_vehicle_file(const std::string& path);
+
+class SimNode : public Node {
+ public:
+  SimNode(const SimParams& params, const SimVehicle& vehicle);
+  // Loads the sim config file and the vehicle file it names.
+  explicit SimNode(const std::string& config_path);
+
+  void on_tick(TimeUs now) override;
+  void on_esc_output(const esc_output_t& m, TimeUs now);
+
+  const sim::VesselModel& model() const { return model_; }
+  sim::VesselModel& model() { return model_; }
+  const sim::CurrentModel& current() const { return current_; }
+  const Vehicle& vehicle() const { return vehicle_; }
+  const SimParams& params() const { return p_; }
+  // Thrust target (N, along each thruster's direction) from the last accepted ESC output.
+  double commanded_thrust(int i) const { return commanded_[static_cast<std::size_t>(i)]; }
+  bool esc_fresh() const { return esc_was_fresh_; }
+  // Maps one ESC value to the motor's normalised command in [-1, 1]; false if out of range.
+  bool motor_command(std::int8_t unit, std::int32_t value, double& out) const;
+
+ private:
+  void publish_outputs(TimeUs now);
+  void fill_odometry(odometry_t& o, const sim::Vector6& eta, const sim::Vector6& nu, TimeUs now);
+
+  SimParams p_;
+  Vehicle vehicle_;
+  sim::VesselModel model_;
+  sim::CurrentModel current_;
+  sim::OdometryNoise noise_;
+  bool surface_;
+  Freshness esc_fresh_;
+  bool esc_was_fresh_ = false;
+  std::int64_t stale_seen_ = 0;
+  std::array<double, sim::kMaxThrusters> commanded_{};
+  bool started_ = false;
+  TimeUs sim_time_ = 0;  // time the model state is at (whole steps)
+  TimeUs next_odom_ = 0, next_truth_ = 0, next_state_ = 0;
+  odometry_t odom_{}, truth_{};
+  sim_state_t state_{};
+  std::int64_t* rej_name_;
+  std::int64_t* rej_unit_;
+  std::int64_t* rej_range_;
+  std::int64_t* rej_count_;
+  std::int64_t* overruns_;
+  std::int64_t* non_finite_;
+};
+
+}  // namespace tiller
