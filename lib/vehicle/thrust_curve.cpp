@@ -65,6 +65,9 @@ ThrustCurve ThrustCurve::table(std::vector<double> command, std::vector<double> 
   if (std::abs(c.thrust(0.0)) > 1e-9) bad("table curve: thrust at command 0 must be 0");
   c.t_min_ = c.t_.front();
   c.t_max_ = c.t_.back();
+  c.du_dt_.resize(c.u_.size() - 1);
+  for (std::size_t i = 0; i + 1 < c.u_.size(); ++i)
+    c.du_dt_[i] = c.t_[i + 1] > c.t_[i] ? (c.u_[i + 1] - c.u_[i]) / (c.t_[i + 1] - c.t_[i]) : 0.0;
   c.description_ = "table(" + std::to_string(c.u_.size()) + " points)";
   return c;
 }
@@ -187,15 +190,12 @@ double ThrustCurve::command(double f) const {
     case Kind::kQuadratic:
       return f >= 0 ? std::sqrt(f / fwd_) : -std::sqrt(-f / rev_);
     case Kind::kTable: {
-      // Segment with t_k < f <= t_k+1 (f > 0) or t_k <= f < t_k+1 (f < 0); never a flat one.
-      std::size_t k = 0;
-      if (f > 0) {
-        while (k + 2 < t_.size() && !(f <= t_[k + 1] && t_[k + 1] > t_[k])) ++k;
-      } else {
-        while (k + 2 < t_.size() && !(f < t_[k + 1])) ++k;
-      }
-      const double s = (f - t_[k]) / (t_[k + 1] - t_[k]);
-      return u_[k] + s * (u_[k + 1] - u_[k]);
+      // f > 0: first point with t >= f closes the segment (t_k < f <= t_k+1, never flat since
+      // flat parts are at 0); f < 0: first point with t > f (t_k <= f < t_k+1).
+      const auto it = f > 0 ? std::lower_bound(t_.begin(), t_.end(), f)
+                            : std::upper_bound(t_.begin(), t_.end(), f);
+      const auto k = static_cast<std::size_t>(it - t_.begin()) - 1;
+      return u_[k] + (f - t_[k]) * du_dt_[k];
     }
     case Kind::kPolynomial: {
       // Bisection on the monotone samples, linear guess, then Newton kept inside the bracket.

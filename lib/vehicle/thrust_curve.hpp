@@ -60,6 +60,7 @@ class ThrustCurve {
   std::string description_;
   double fwd_ = 1, rev_ = 1;       // linear / quadratic
   std::vector<double> u_, t_;      // table points, or polynomial samples for the inverse
+  std::vector<double> du_dt_;      // table: inverse slope per segment
   std::vector<double> c_;          // polynomial coefficients
   double u_min_ = -1, u_max_ = 1;  // usable command range
   double t_min_ = -1, t_max_ = 1;  // thrust at u_min_ / u_max_
