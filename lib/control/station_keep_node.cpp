@@ -9,6 +9,13 @@
 
 namespace tiller::control {
 
+// Status lines as strings made once (set_health takes a std::string; no allocation per tick).
+const std::string kHolding = "odometry stale: holding the last wrench";
+const std::string kNeutral = "odometry stale: neutral";
+const std::string kNoTarget = "idle: no target";
+const std::string kKeeping = "station keeping";
+const std::string kStandby = "standing by (not the active source)";
+
 namespace {
 constexpr int kAxis[3] = {0, 1, 5};
 }
@@ -101,10 +108,10 @@ void StationKeepNode::on_tick(TimeUs now) {
     if (hold) {
       publish_wrench(now, last_wrench_.valid, last_wrench_.tau[0], last_wrench_.tau[1],
                      last_wrench_.tau[5]);
-      set_health(heartbeat_t::STATE_DEGRADED, "odometry stale: holding the last wrench");
+      set_health(heartbeat_t::STATE_DEGRADED, kHolding);
     } else {
       publish_wrench(now, true, 0, 0, 0);
-      set_health(heartbeat_t::STATE_DEGRADED, "odometry stale: neutral");
+      set_health(heartbeat_t::STATE_DEGRADED, kNeutral);
     }
     last_odom_utime_ = -1;
     return;
@@ -159,9 +166,7 @@ void StationKeepNode::on_tick(TimeUs now) {
     t.integrator_frozen[k] = terms_.frozen[k];
   }
   publish(channels::kPidStation, t);
-  set_health(heartbeat_t::STATE_OK, !have_target ? "idle: no target"
-                                    : active_    ? "station keeping"
-                                                 : "standing by (not the active source)");
+  set_health(heartbeat_t::STATE_OK, !have_target ? kNoTarget : active_ ? kKeeping : kStandby);
 }
 
 }  // namespace tiller::control

@@ -10,6 +10,10 @@
 
 namespace tiller::control {
 
+// Status lines as strings made once (set_health takes a std::string; no allocation per tick).
+const std::string kHolding = "odometry stale: holding the last wrench";
+const std::string kNeutral = "odometry stale: neutral";
+
 namespace {
 constexpr int kAxis[3] = {0, 1, 5};  // [X Y N] in tau / allocation_status_t arrays
 }
@@ -121,12 +125,15 @@ void VelocityPidNode::on_tick(TimeUs now) {
   ai.complete = progress_.complete;
   ai.distance_to_goal = progress_.distance_to_goal;
   decision_ = arbiter_.decide(ai);
-  arbitration_t arb{};
+  arbitration_t& arb = arb_;
   arb.utime = now;
   arb.mode = decision_.mode;
   arb.active_source = decision_.source;
   arb.is_translation = is_translation_;
-  arb.reason = decision_.reason;
+  if (decision_.changed) {
+    arb.reason = decision_.reason;
+    reason_ = decision_.reason;
+  }
   publish(channels::kArbitration, arb);
 
   const bool active = decision_.source == wrench_t::SOURCE_VELOCITY_PID;
@@ -154,10 +161,10 @@ void VelocityPidNode::on_tick(TimeUs now) {
     if (hold) {
       publish_wrench(now, last_wrench_.valid, last_wrench_.tau[0], last_wrench_.tau[1],
                      last_wrench_.tau[5]);
-      set_health(heartbeat_t::STATE_DEGRADED, "odometry stale: holding the last wrench");
+      set_health(heartbeat_t::STATE_DEGRADED, kHolding);
     } else {
       publish_wrench(now, true, 0, 0, 0);
-      set_health(heartbeat_t::STATE_DEGRADED, "odometry stale: neutral");
+      set_health(heartbeat_t::STATE_DEGRADED, kNeutral);
     }
     last_odom_utime_ = -1;
     return;
@@ -238,7 +245,7 @@ void VelocityPidNode::on_tick(TimeUs now) {
     t.integrator_frozen[k] = terms_.frozen[k];
   }
   publish(channels::kPidVelocity, t);
-  set_health(heartbeat_t::STATE_OK, decision_.reason);
+  set_health(heartbeat_t::STATE_OK, reason_);
 }
 
 }  // namespace tiller::control

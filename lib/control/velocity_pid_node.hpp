@@ -12,6 +12,7 @@
 #pragma once
 
 #include <tiller/allocation_status_t.hpp>
+#include <tiller/arbitration_t.hpp>
 #include <tiller/controller_mode_t.hpp>
 #include <tiller/manual_velocity_cmd_t.hpp>
 #include <tiller/odometry_t.hpp>
@@ -62,6 +63,8 @@ class VelocityPidNode : public Node {
   bool is_translation_ = false;
   TimeUs last_odom_utime_ = -1;
   wrench_t last_wrench_{};
+  arbitration_t arb_{};
+  std::string reason_;
   wrench_t station_wrench_{};
   Freshness station_fresh_;
   Blend blend_;

@@ -9,6 +9,13 @@
 
 namespace tiller::guidance {
 
+// Status lines as strings made once (set_health takes a std::string; no allocation per tick).
+const std::string kIdle = "idle: no path";
+const std::string kStale = "odometry stale: setpoint inactive";
+const std::string kWaiting = "path waiting for odometry";
+const std::string kComplete = "path complete";
+const std::string kFollowing = "following";
+
 PathFollowerNode::PathFollowerNode(const FollowerNodeParams& p)
     : Node("path-follower", from_hz(p.rate_hz)),
       p_(p),
@@ -21,7 +28,7 @@ PathFollowerNode::PathFollowerNode(const FollowerNodeParams& p)
   invalid_path_ = &counter("rejected.path.invalid");
   paths_started_ = &counter("paths.started");
   pending_points_.reserve(64);
-  set_health(heartbeat_t::STATE_OK, "idle: no path");
+  set_health(heartbeat_t::STATE_OK, kIdle);
 }
 
 void PathFollowerNode::on_path(const path_t& m, TimeUs) {
@@ -129,11 +136,11 @@ void PathFollowerNode::on_tick(TimeUs now) {
   publish(channels::kStationTarget, st);
 
   if (!fresh && follower_.has_path()) {
-    set_health(heartbeat_t::STATE_DEGRADED, "odometry stale: setpoint inactive");
+    set_health(heartbeat_t::STATE_DEGRADED, kStale);
   } else if (!follower_.has_path()) {
-    set_health(heartbeat_t::STATE_OK, pending_ ? "path waiting for odometry" : "idle: no path");
+    set_health(heartbeat_t::STATE_OK, pending_ ? kWaiting : kIdle);
   } else {
-    set_health(heartbeat_t::STATE_OK, out_.complete ? "path complete" : "following");
+    set_health(heartbeat_t::STATE_OK, out_.complete ? kComplete : kFollowing);
   }
 }
 

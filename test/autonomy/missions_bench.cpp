@@ -7,6 +7,9 @@
 
 #include <cstdio>
 
+#include "control/station_pid.hpp"
+#include "control/velocity_pid.hpp"
+#include "guidance/path_follower.hpp"
 #include "harness.hpp"
 #include "plants.hpp"
 
@@ -73,6 +76,56 @@ void BM_Mission(benchmark::State& state) {
   state.counters["x_real_time"] = sim / wall;
   state.counters["sim_s"] = sim / static_cast<double>(state.iterations());
 }
+
+// The hot paths: one follower update on a 6-point course, one step of each PID.
+void BM_FollowerUpdate(benchmark::State& state) {
+  guidance::PathFollower f;
+  std::vector<guidance::Waypoint> pts(6);
+  const double xy[6][2] = {{0, 0}, {30, 0}, {30, 20}, {50, 20}, {10, 26}, {10, 40}};
+  for (int k = 0; k < 6; ++k) pts[static_cast<std::size_t>(k)].position = {xy[k][0], xy[k][1]};
+  f.set_path(pts, {0, 0}, 0, false);
+  double n = 0;
+  for (auto _ : state) {
+    n += 1e-4;
+    auto o = f.update({n, 0.3}, 0.01, 0.05);
+    benchmark::DoNotOptimize(o);
+  }
+}
+BENCHMARK(BM_FollowerUpdate);
+
+void BM_VelocityPidStep(benchmark::State& state) {
+  control::VelocityPidParams p;
+  p.surge = {51, 72, 300, 40, 100, 650};
+  p.yaw = {400, 0, 600, 200, 200, 1500};
+  control::VelocityPid pid(p);
+  control::VelocityPidInput in;
+  in.u_sp = 1.5;
+  in.yaw_mode = control::YawMode::kHeading;
+  in.yaw_value = 0.5;
+  in.dt = 0.05;
+  for (auto _ : state) {
+    auto t = pid.step(in);
+    benchmark::DoNotOptimize(t);
+  }
+}
+BENCHMARK(BM_VelocityPidStep);
+
+void BM_StationPidStep(benchmark::State& state) {
+  control::StationPidParams p;
+  p.x = p.y = {150, 20, 350, 150, 500};
+  p.yaw = {600, 50, 600, 200, 1200};
+  control::StationPid pid(p);
+  control::StationPidInput in;
+  in.target_n = 1;
+  in.target_e = 0.5;
+  in.target_heading = 0.3;
+  in.dt = 0.05;
+  for (auto _ : state) {
+    auto t = pid.step(in);
+    benchmark::DoNotOptimize(t);
+  }
+}
+BENCHMARK(BM_StationPidStep);
 
 }  // namespace
 }  // namespace tiller::test

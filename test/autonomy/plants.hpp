@@ -20,6 +20,9 @@ struct PlantSpec {
   std::function<std::vector<std::unique_ptr<Node>>(const mission::Mission&, double, double)> make;
 };
 
+// The full stack for the Otter, seed004_usv_x and seed004_usv_h (pose: ground truth).
 const std::vector<PlantSpec>& plants();
+// The stand-in Otter model alone.
+const PlantSpec& standin_plant();
 
 }  // namespace tiller::test

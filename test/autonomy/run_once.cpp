@@ -2,7 +2,9 @@
 #include <cstdio>
 #include <cstdlib>
 
+#include <string>
 #include "harness.hpp"
+#include "plants.hpp"
 
 int main(int argc, char** argv) {
   tiller::test::RunConfig c;
@@ -10,6 +12,14 @@ int main(int argc, char** argv) {
   if (argc > 2) c.guidance_file = argv[2];
   if (argc > 3) c.control_file = argv[3];
   if (argc > 4) c.current_speed = std::atof(argv[4]);
+  const char* plant = std::getenv("PLANT");
+  for (const auto& p : tiller::test::plants()) {
+    if (plant && p.name == plant) {
+      c.make_plant = p.make;
+      c.pose_channel = p.pose_channel;
+      if (argc <= 3) c.control_file = p.control_file;
+    }
+  }
   const auto r = tiller::test::run_mission(c);
   std::printf(
       "completed %d at %.1f s, skipped %d, missed %d, xte rms %.3f max %.3f, final %.3f, "

@@ -1,5 +1,6 @@
 #include "step_response.hpp"
 
+#include <tiller/arm_request_t.hpp>
 #include <tiller/controller_mode_t.hpp>
 #include <tiller/manual_velocity_cmd_t.hpp>
 #include <tiller/odometry_t.hpp>
@@ -36,6 +37,13 @@ StepResult velocity_step(const std::string& control_file, double command,
   m.yaw_mode = manual_velocity_cmd_t::YAW_RATE;
   m.valid = true;
   const TimeUs end = from_seconds(duration_s);
+  arm_request_t arm{};
+  arm.arm = true;
+  arm.source = "step-test";
+  for (TimeUs t = 0; t <= end; t += kUsPerSecond) {  // the full stack's ESC node arms on this
+    arm.utime = t;
+    ex.inject(channels::kArmRequest, arm, t);
+  }
   for (TimeUs t = 0; t <= end; t += 50'000) {
     m.utime = t;
     ex.inject(channels::kManualVelocity, m, t);
