@@ -20,6 +20,7 @@
 
 #include "logtools/csv.hpp"
 #include "logtools/lcm_schema.hpp"
+#include "logtools/log_io.hpp"
 #include "logtools/logsummary.hpp"
 #include "mission/mission.hpp"
 #include "runtime/app.hpp"
@@ -141,12 +142,13 @@ int main(int argc, char** argv) {
     const auto& p = a.positional;
     if (p.size() == 4 && p[0] == "wait") return wait_for(a);
     if (p.size() == 2 && p[0] == "summary") {
-      std::cout << p[1] << ": " << logtools::format_summary(logtools::summarize(read_log(p[1])));
+      std::cout << p[1] << ": "
+                << logtools::format_summary(logtools::summarize(logtools::read_any_log(p[1])));
       return 0;
     }
     if (p.size() == 3 && (p[0] == "csv" || p[0] == "fields")) {
-      const auto all = read_log(p[1]);
-      const auto events = read_log(p[1], p[2]);
+      const auto all = logtools::read_any_log(p[1]);
+      const auto events = logtools::read_any_log(p[1], p[2]);
       if (events.empty()) {
         std::cerr << "tiller-log: no messages on channel " << p[2] << " in " << p[1] << "\n";
         return 1;

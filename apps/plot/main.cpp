@@ -8,6 +8,7 @@
 #include <fstream>
 #include <iostream>
 
+#include "logtools/log_io.hpp"
 #include "logtools/plotdata.hpp"
 #include "runtime/app.hpp"
 #include "runtime/log.hpp"
@@ -32,10 +33,9 @@ int main(int argc, char** argv) {
     namespace fs = std::filesystem;
     const std::string log_path = a.positional[0];
     std::string png = a.get("output");
-    if (png.empty())
-      png = (fs::path(log_path).parent_path() / fs::path(log_path).stem()).string() + ".png";
+    if (png.empty()) png = logtools::log_stem(log_path) + ".png";
     png = fs::absolute(png).string();
-    const auto log = read_log(log_path);
+    const auto log = logtools::read_any_log(log_path);
     if (log.empty()) throw std::runtime_error(log_path + ": the log is empty");
     const bool keep = !a.get("data-dir").empty();
     fs::path dir = keep ? fs::path(a.get("data-dir"))

@@ -13,6 +13,7 @@
 #include <map>
 
 #include "core/config.hpp"
+#include "logtools/log_io.hpp"
 #include "processes.hpp"
 #include "runtime/app.hpp"
 #include "runtime/channels.hpp"
@@ -73,8 +74,7 @@ int main(int argc, char** argv) {
     bool heartbeats = a.flag("heartbeats");
     std::string manifest = a.get("configs");
     if (manifest.empty()) {
-      std::filesystem::path p(log_path);
-      const auto candidate = (p.parent_path() / p.stem()).string() + ".replay.yaml";
+      const auto candidate = logtools::log_stem(log_path) + ".replay.yaml";
       if (std::filesystem::exists(candidate)) manifest = candidate;
     }
     if (!manifest.empty()) {
@@ -92,7 +92,7 @@ int main(int argc, char** argv) {
     if (!a.get("time-tolerance-ms").empty())
       tol.time_us = from_seconds(std::stod(a.get("time-tolerance-ms")) * 1e-3);
 
-    const auto log = read_log(log_path);
+    const auto log = logtools::read_any_log(log_path);
     if (log.empty()) throw std::runtime_error(log_path + ": the log is empty");
     std::vector<const ProcessEntry*> chosen;
     const std::string which = a.get("process");

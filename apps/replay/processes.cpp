@@ -9,11 +9,9 @@
 #include "guidance/path_follower_node.hpp"
 #include "mixer/mixer_node.hpp"
 #include "runtime/channels.hpp"
+#include "sim/sim_node.hpp"
 #include "teleop/teleop_node.hpp"
 #include "teleop/teleop_params.hpp"
-#ifdef TILLER_HAVE_SIM
-#include "sim/sim_node.hpp"
-#endif
 
 namespace tiller::replaytool {
 
@@ -58,6 +56,10 @@ const std::vector<ProcessEntry>& replayable_processes() {
        [](const std::string& c) {
          return std::make_unique<TeleopNode>(load_teleop_file(c), TeleopNode::Input::replay);
        }},
+      {"sim",
+       "config/sim/sim.yaml",
+       {ch::kOdometry, ch::kGroundTruth, ch::kSimState},
+       [](const std::string& c) { return std::make_unique<SimNode>(c); }},
   };
   return entries;
 }
