@@ -38,6 +38,7 @@ TeleopNode::TeleopNode(TeleopParams params, Input input)
   device_ = p_.device_path.empty() ? p_.device_name : p_.device_path;
   if (input_ == Input::replay) subscribe(channels::kJoystick, &TeleopNode::on_joystick);
   subscribe(channels::kOdometry, &TeleopNode::on_odometry);
+  subscribe(channels::kArmState, &TeleopNode::on_arm_state);
   rejected_state_ = &counter("rejected.joystick.malformed");
   rejected_odom_ = &counter("rejected.odometry.nan");
   disconnects_ = &counter("joystick.disconnects");
@@ -68,6 +69,13 @@ void TeleopNode::on_odometry(const odometry_t& o, TimeUs now) {
   }
   heading_ = wrap_pi(yaw);
   odom_fresh_.mark(now);
+}
+
+void TeleopNode::on_arm_state(const arm_state_t& a, TimeUs now) {
+  armed_ = a.armed;
+  arm_known_ = true;
+  arm_fresh_.mark(now);
+  if ((armed_ ? 1 : 0) != arm_shown_) update_health();
 }
 
 void TeleopNode::process(const joystick_state_t& s, TimeUs now) {
@@ -268,6 +276,10 @@ void TeleopNode::publish_mode(TimeUs now) {
 }
 
 void TeleopNode::on_tick(TimeUs now) {
+  if (arm_known_ && !arm_fresh_.fresh(now)) {
+    arm_known_ = false;  // tiller-esc silent: say so rather than show an old state
+    update_health();
+  }
   if (input_ == Input::device) {
     js_msg_.utime = now;
     publish(channels::kJoystick, js_msg_);
@@ -278,18 +290,22 @@ void TeleopNode::on_tick(TimeUs now) {
 }
 
 void TeleopNode::update_health() {
+  const int arm = arm_known_ ? (armed_ ? 1 : 0) : -1;
+  arm_shown_ = arm;
+  const char* arm_text = arm < 0 ? "; arm state unknown" : arm ? "; ARMED" : "; disarmed";
   static const char* const mode_names[3] = {"open-loop manual", "closed-loop manual", "autonomous"};
   const char* mode = mode_ >= 0 && mode_ <= 2 ? mode_names[mode_] : "?";
   char buf[160];
   if (!connected_) {
-    std::snprintf(buf, sizeof buf, "joystick absent (%s)", device_.c_str());
+    std::snprintf(buf, sizeof buf, "joystick absent (%s)%s", device_.c_str(), arm_text);
     set_health(heartbeat_t::STATE_DEGRADED, buf);
   } else if (!centred_) {
-    set_health(heartbeat_t::STATE_DEGRADED,
-               "joystick connected, waiting for the stick to be centred");
+    std::snprintf(buf, sizeof buf, "joystick connected, waiting for the stick to be centred%s",
+                  arm_text);
+    set_health(heartbeat_t::STATE_DEGRADED, buf);
   } else {
-    std::snprintf(buf, sizeof buf, "joystick ok; mode %s%s; gain %.2f", mode,
-                  translation_ ? " (translation)" : "", gain_);
+    std::snprintf(buf, sizeof buf, "joystick ok; mode %s%s; gain %.2f%s", mode,
+                  translation_ ? " (translation)" : "", gain_, arm_text);
     set_health(heartbeat_t::STATE_OK, buf);
   }
 }

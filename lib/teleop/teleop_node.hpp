@@ -3,7 +3,8 @@
 // Input: joystick_state_t (raw js-unit axes and buttons, plus whether the device is present),
 // either fed by the app straight from the device (feed(), live mode: the node then publishes
 // TILLER_JOYSTICK itself, for logs) or, for replay, taken from TILLER_JOYSTICK
-// (Input::replay). Optional TILLER_ODOMETRY gives the heading for closed-loop heading hold.
+// (Input::replay). Optional TILLER_ODOMETRY gives the heading for closed-loop heading hold;
+// TILLER_ARM_STATE (from tiller-esc) is shown in the heartbeat status for the pilot.
 // Outputs, every period and at once when the stick moves (publish_on_change):
 //   TILLER_MANUAL_DEMAND   normalised [X Y Z K M N] FRD in [-1, 1] (see teleop_params.hpp)
 //   TILLER_MANUAL_VELOCITY body [u v w] m/s and yaw rate / heading / torque (seed 004)
@@ -18,6 +19,7 @@
 #include <string>
 #include <vector>
 
+#include <tiller/arm_state_t.hpp>
 #include <tiller/controller_mode_t.hpp>
 #include <tiller/joystick_state_t.hpp>
 #include <tiller/manual_demand_t.hpp>
@@ -57,6 +59,7 @@ class TeleopNode : public Node {
  private:
   void on_joystick(const joystick_state_t& s, TimeUs now);
   void on_odometry(const odometry_t& o, TimeUs now);
+  void on_arm_state(const arm_state_t& a, TimeUs now);
   void process(const joystick_state_t& s, TimeUs now);
   void apply_state(const joystick_state_t& s, TimeUs now);
   void update_buttons(TimeUs now);
@@ -95,7 +98,10 @@ class TeleopNode : public Node {
   std::int64_t* disconnects_;
   std::int64_t* presses_;
   std::int64_t* bounces_;
-  std::string status_;
+  Freshness arm_fresh_{500'000};
+  int arm_shown_ = -1;  // -1 unknown, 0 disarmed, 1 armed: what the status says
+  bool armed_ = false;
+  bool arm_known_ = false;  // a fresh TILLER_ARM_STATE
 };
 
 }  // namespace tiller

@@ -1,12 +1,15 @@
 // tiller-teleop as a real process over LCM in a private network namespace, its joystick a FIFO:
-// stick events reach TILLER_MANUAL_DEMAND at once (well before the next 50 Hz tick would),
+// stick events reach TILLER_MANUAL_DEMAND,
 // the arm button gives one TILLER_ARM_REQUEST, closing the FIFO's writer gives a neutral,
 // invalid demand and a DEGRADED heartbeat, reopening it resumes only after centring, and
-// SIGTERM ends the process with status 0.
+// SIGTERM ends the process with status 0. A regular file as the device: appended records are
+// events, removing the file is unplugging.
 #include <gtest/gtest.h>
 #include <lcm/lcm-cpp.hpp>
 
+#include <cstdio>
 #include <functional>
+#include <vector>
 
 #include <tiller/arm_request_t.hpp>
 #include <tiller/heartbeat_t.hpp>
@@ -127,6 +130,53 @@ TEST(TeleopLive, FifoStickThroughTheRealProcess) {
   const int status = teleop.stop();
   EXPECT_TRUE(WIFEXITED(status));
   EXPECT_EQ(WEXITSTATUS(status), 0);
+}
+
+TEST(TeleopLive, RegularFileStickRemovedIsUnplug) {
+  lcm::LCM l(kUrl);
+  ASSERT_TRUE(l.good()) << "LCM not available: run under tools/netns-run";
+  Rx rx;
+  l.subscribe("TILLER_MANUAL_DEMAND", &Rx::on_demand, &rx);
+  l.subscribe("TILLER_HEARTBEAT_TELEOP", &Rx::on_hb, &rx);
+  const std::string path = "/tmp/tiller_teleop_live_file_" + std::to_string(getpid());
+  const auto rec = [] {
+    std::FILE* f = std::fopen(TILLER_SOURCE_DIR "/test/data/joystick/e3dp_positions.js", "rb");
+    std::vector<unsigned char> b(18 * 8);
+    const std::size_t n = f ? std::fread(b.data(), 1, b.size(), f) : 0;
+    if (f) std::fclose(f);
+    b.resize(n);
+    return b;
+  }();
+  ASSERT_EQ(rec.size(), 18u * 8);
+  {
+    std::FILE* f = std::fopen(path.c_str(), "wb");
+    std::fwrite(rec.data(), 1, rec.size(), f);  // the INIT block: plugged in, centred
+    std::fclose(f);
+  }
+  Proc teleop(
+      std::string(TILLER_BIN_DIR) + "/tiller-teleop",
+      {"--config", std::string(TILLER_SOURCE_DIR) + "/config/teleop/extreme3dpro_seed000.yaml",
+       "--device", path, "--lcm-url", kUrl});
+  ASSERT_TRUE(pump_until(
+      l, [&] { return rx.demand.valid; }, 5.0));
+  // Appended records are new events (inotify), handled at once.
+  {
+    std::FILE* f = std::fopen(path.c_str(), "ab");
+    JsEvent e{0, -32767, kJsEventAxis, 1};
+    std::fwrite(&e, sizeof e, 1, f);
+    std::fclose(f);
+  }
+  ASSERT_TRUE(pump_until(
+      l, [&] { return rx.demand.demand[0] == 1.0; }, 2.0));
+  // Removing the file is pulling the plug.
+  ::unlink(path.c_str());
+  ASSERT_TRUE(pump_until(
+      l, [&] { return !rx.demand.valid; }, 2.0));
+  EXPECT_EQ(rx.demand.demand[0], 0.0);
+  ASSERT_TRUE(pump_until(
+      l, [&] { return rx.hb.status.find("joystick absent") != std::string::npos; }, 2.5))
+      << rx.hb.status;
+  EXPECT_TRUE(teleop.running());
 }
 
 }  // namespace

@@ -340,6 +340,30 @@ TEST(ClosedLoop, VelocityScaledAndHeadingHeld) {
   EXPECT_EQ(v.yaw_rate, 0.0);
 }
 
+TEST(Health, StatusShowsTheEscArmStateAndWhenItGoesSilent) {
+  Rig r(load_teleop_file(config_path("extreme3dpro_seed000.yaml")));
+  r.play("e3dp_init_button_held.js");  // connected at 1000 ms, centred
+  auto status = [&] { return r.all<heartbeat_t>(r.node.heartbeat_channel()).back().second.status; };
+  r.run_until(ms(2000));
+  EXPECT_NE(status().find("arm state unknown"), std::string::npos) << status();
+  arm_state_t a{};
+  a.armed = true;
+  a.reason = "armed by teleop";
+  std::vector<std::uint8_t> b(static_cast<std::size_t>(a.getEncodedSize()));
+  for (int i = 0; i < 10; ++i) {  // 10 Hz for a second
+    const TimeUs t = ms(2050 + 100 * i);
+    a.utime = t;
+    a.encode(b.data(), 0, static_cast<int>(b.size()));
+    r.run_until(t);
+    r.node.deliver(channels::kArmState, b.data(), static_cast<int>(b.size()), t);
+  }
+  r.run_until(ms(3000));
+  EXPECT_NE(status().find("ARMED"), std::string::npos) << status();
+  EXPECT_EQ(status().find("joystick ok"), 0u) << status();
+  r.run_until(ms(4000));  // tiller-esc silent for 0.5 s and more
+  EXPECT_NE(status().find("arm state unknown"), std::string::npos) << status();
+}
+
 TEST(Input, MalformedStateRejected) {
   Rig r(load_teleop_file(config_path("extreme3dpro_seed000.yaml")));
   r.state.connected = true;
