@@ -5,6 +5,7 @@
 #include <filesystem>
 
 #include "esc/esc_config.hpp"
+#include "esc/linux_i2c.hpp"
 #include "esc_rig.hpp"
 
 namespace tiller::test {
@@ -120,6 +121,17 @@ TEST(EscConfig, HardwareBackendWithoutTheBusSaysWhatToCheck) {
     const std::string m = e.what();
     EXPECT_NE(m.find("cannot open I2C bus /dev/i2c-99"), std::string::npos) << m;
     EXPECT_NE(m.find("i2c-dev"), std::string::npos) << m;
+  }
+}
+
+TEST(EscConfig, LinuxTransportRefusesSomethingThatIsNotAnI2cAdapter) {
+  // The real i2c-dev code, on a device node that exists but is not an adapter: I2C_FUNCS fails.
+  try {
+    esc::LinuxI2c bus("/dev/null");
+    FAIL() << "accepted /dev/null as an I2C adapter";
+  } catch (const std::runtime_error& e) {
+    EXPECT_NE(std::string(e.what()).find("/dev/null is not an i2c-dev adapter"), std::string::npos)
+        << e.what();
   }
 }
 
