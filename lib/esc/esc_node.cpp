@@ -110,6 +110,10 @@ esc::StartReport EscNode::start(TimeUs now) {
 }
 
 void EscNode::on_command(const thruster_command_t& m, TimeUs now) {
+  if (m.n_thrusters < 0 || m.n_thrusters > 16) {
+    reject(*c_missing_);
+    return;
+  }
   const auto n = static_cast<std::size_t>(m.n_thrusters);
   // Map message positions to ESCs; rebuilt only when the names change.
   if (m.names != cached_names_) {

@@ -158,25 +158,28 @@ TEST(Tgy, NackOnOneEscIsCountedAndOthersKeepGoing) {
   const auto writes0 = r.tgy[0x2c]->throttle_writes();
   r.bus.fail(0x2a, EREMOTEIO, 3);  // front_left NACKs three times
   r.bus.fail(0x2b, ETIMEDOUT, 1);
-  r.run_until(50'000);  // five cycles
+  r.bus.fail(0x2c, EAGAIN, 1);  // arbitration lost
+  r.run_until(50'000);          // five cycles
   const auto& b = r.node->backend();
   EXPECT_EQ(b.stats(0).write_errors, 0);
   EXPECT_EQ(b.stats(1).write_errors, 3);
   EXPECT_EQ(b.stats(1).last_errno, EREMOTEIO);
   EXPECT_EQ(b.stats(2).write_errors, 1);
   EXPECT_EQ(b.stats(2).last_errno, ETIMEDOUT);
-  EXPECT_EQ(b.stats(3).write_errors, 0);
-  EXPECT_EQ(r.tgy[0x2c]->throttle_writes() - writes0, 5);  // every cycle
+  EXPECT_EQ(b.stats(3).write_errors, 1);
+  EXPECT_EQ(b.stats(3).last_errno, EAGAIN);
+  EXPECT_EQ(r.tgy[0x29]->throttle_writes() - writes0, 5);  // every cycle
+  EXPECT_EQ(r.tgy[0x2c]->throttle_writes() - writes0, 4);
   EXPECT_EQ(r.tgy[0x2a]->throttle_writes() - writes0, 2);  // retried, got through twice
   EXPECT_EQ(r.tgy[0x2a]->output(), 16384);
   r.run_until(100'000);
   const auto st = r.cap.last<esc_bus_status_t>(channels::kEscStatus);
-  EXPECT_EQ(st.write_errors, (std::vector<std::int64_t>{0, 3, 1, 0}));
-  EXPECT_EQ(st.last_errno, (std::vector<std::int32_t>{0, EREMOTEIO, ETIMEDOUT, 0}));
+  EXPECT_EQ(st.write_errors, (std::vector<std::int64_t>{0, 3, 1, 1}));
+  EXPECT_EQ(st.last_errno, (std::vector<std::int32_t>{0, EREMOTEIO, ETIMEDOUT, EAGAIN}));
   EXPECT_EQ(st.present, (std::vector<std::int8_t>{1, 1, 1, 1}));
   EXPECT_EQ(st.backend, "i2c_tgy");
   EXPECT_EQ(st.bus, "fake-i2c");
-  EXPECT_EQ(r.node->counter_value("bus.errors"), 4);
+  EXPECT_EQ(r.node->counter_value("bus.errors"), 5);
 }
 
 TEST(Tgy, PersistentBusErrorShowsInHeartbeat) {
