@@ -26,7 +26,7 @@ int main(int argc, char** argv) {
         argc, argv,
         {"tiller-esc",
          "ESC bus driver: thruster commands -> ESCs (I2C tgy, PCA9685 PWM, sim, dry-run)",
-         "esc/sim_seed000_rov4.yaml",
+         "config/esc/seed000_sim.yaml",
          {}});
     EscNode node(resolve(args.config));
     const auto& b = node.backend();
