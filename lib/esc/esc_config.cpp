@@ -106,8 +106,9 @@ EscConfig load_esc_config(const config::Value& root) {
     }
   }
   const std::string proto = c.backend == "dry_run" ? c.dry_run.protocol : c.backend;
-  if (proto == "i2c_tgy" && !root.has("i2c_tgy") && c.backend != "dry_run") root.at("i2c_tgy");
-  if (proto == "pca9685" && !root.has("pca9685")) root.at("pca9685");  // throws: section needed
+  // The hardware backends need their section (the bus, the board); at() throws naming it.
+  if (c.backend == "i2c_tgy" && !root.has("i2c_tgy")) root.at("i2c_tgy");
+  if (proto == "pca9685" && !root.has("pca9685")) root.at("pca9685");
 
   const auto thrusters = load_vehicle_thrusters(c.vehicle_file);
   const config::Value escs = root.at("escs");
@@ -146,7 +147,13 @@ EscConfig load_esc_config(const config::Value& root) {
     }
     ch.trim = e.number_or("trim", 1.0, {0.05, 1.0});
     ch.slew_per_s = e.number_or("slew_per_s", 0.0, {0, 1000});
-    ch.pulse = load_pulse(e, proto == "pca9685" ? c.pca9685.pulse : sim_pulse);
+    // Pulse widths mean something only for PWM (and the sim in pulse units): elsewhere they
+    // are unknown keys.
+    if (proto == "pca9685") {
+      ch.pulse = load_pulse(e, c.pca9685.pulse);
+    } else if (proto == "sim") {
+      ch.pulse = load_pulse(e, sim_pulse);
+    }
     if (e.has("reversed")) {
       e.at("reversed")
           .fail("no `reversed` here: a thruster is reversed in the vehicle file (" +

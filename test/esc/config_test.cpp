@@ -105,6 +105,10 @@ TEST(EscConfig, MistakesAreRefusedWithTheKey) {
   EXPECT_NE(e.find("min_us < neutral_us < max_us"), std::string::npos) << e;
   e = error_of(std::string(pca).replace(pca.find("%s"), 2, ", oscillator_calibration: 1.5"));
   EXPECT_NE(e.find("oscillator_calibration"), std::string::npos) << e;
+  // Pulse widths on an I2C throttle ESC mean nothing: refused.
+  e = error_of(
+      tgy_yaml().replace(tgy_yaml().find("address: 0x2c"), 13, "address: 0x2c, max_us: 1900"));
+  EXPECT_NE(e.find("escs[3].max_us: unknown key"), std::string::npos) << e;
   // i2c_tgy needs its section (the bus).
   e = error_of(
       "vehicle: rov4.yaml\nbackend: i2c_tgy\nescs:\n  - {name: front_right, address: 0x29}\n");
