@@ -45,6 +45,13 @@ class LiveExecutor::LcmBus : public Bus {
 };
 
 LiveExecutor::LiveExecutor(const std::string& url) {
+  // Handlers go in first: a SIGINT/SIGTERM that arrives while the program is still starting is
+  // remembered, and run() then returns at once after every node's shutdown() (ESCs to neutral).
+  struct sigaction sa {};
+  sa.sa_handler = on_signal;
+  sigemptyset(&sa.sa_mask);
+  sigaction(SIGINT, &sa, nullptr);
+  sigaction(SIGTERM, &sa, nullptr);
   const std::string u = with_default_ttl(url);
   lcm_ = std::make_unique<lcm::LCM>(u);
   if (!lcm_->good()) {
@@ -97,12 +104,6 @@ void LiveExecutor::publish_raw(const std::string& channel, const void* data, int
 }
 
 int LiveExecutor::run() {
-  struct sigaction sa {};
-  sa.sa_handler = on_signal;
-  sigemptyset(&sa.sa_mask);
-  sigaction(SIGINT, &sa, nullptr);
-  sigaction(SIGTERM, &sa, nullptr);
-
   std::vector<pollfd> pfds;
   while (!stop_ && !g_signalled.load()) {
     TimeUs now = wall_time_us();

@@ -1,7 +1,8 @@
 // Live executor: runs nodes under LCM on wall-clock time (the only place in lib/ that reads a
 // clock). Ticks follow each node's grid on CLOCK_REALTIME (us since the epoch, the time base
 // lcm-logger stamps events with); messages are delivered as they arrive with the receive time.
-// SIGINT/SIGTERM end run() cleanly: every node's shutdown() runs (ESCs to neutral) first.
+// SIGINT/SIGTERM (from construction on) end run() cleanly: every node's shutdown() runs
+// (ESCs to neutral) first.
 #pragma once
 
 #include <functional>
