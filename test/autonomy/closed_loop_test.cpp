@@ -6,6 +6,7 @@
 #include <cmath>
 #include <cstdio>
 
+#include "core/angles.hpp"
 #include "harness.hpp"
 #include "plants.hpp"
 #include "simple_plant.hpp"
@@ -76,6 +77,24 @@ TEST(ClosedLoop, RepeatedPointsAndZeroLengthSegmentsStillComplete) {
     EXPECT_EQ(r.skipped, 0);
     EXPECT_LT(r.path.final_position_error, 0.5);
     for (const auto& p : r.poses) ASSERT_TRUE(std::isfinite(p.north) && std::isfinite(p.east));
+  }
+}
+
+TEST(ClosedLoop, TranslationHoldsTheHeadingWhileMoving) {
+  for (std::size_t v : {1u, 2u}) {  // seed 004 X and H drive
+    RunConfig c;
+    c.mission_file = "test/autonomy/translation_mission.yaml";
+    c.control_file = plants()[v].control_file;
+    c.make_plant = plants()[v].make;
+    c.pose_channel = plants()[v].pose_channel;
+    const auto r = run_mission(c);
+    SCOPED_TRACE(plants()[v].name);
+    EXPECT_TRUE(r.completed);
+    EXPECT_EQ(r.path.waypoints_missed, 0);
+    EXPECT_LT(r.path.final_position_error, 0.5);
+    double worst = 0;
+    for (const auto& p : r.poses) worst = std::max(worst, std::abs(angle_diff(p.heading, kPi / 2)));
+    EXPECT_LT(worst, 0.15);  // rad: never turned toward the direction of travel
   }
 }
 
