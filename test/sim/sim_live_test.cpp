@@ -1,0 +1,164 @@
+// tiller-sim as a real process over LCM, inside the private network namespace tools/netns-run
+// makes: ESC output (int16 throttle, as tiller-esc's sim backend sends it) drives the Otter
+// forward; odometry, ground truth, sim state and the heartbeat arrive; when the ESC output
+// stops, the thrust decays to zero; SIGTERM exits 0; a missing vehicle file exits 2 naming it.
+#include <fcntl.h>
+#include <gtest/gtest.h>
+#include <signal.h>
+#include <sys/wait.h>
+#include <unistd.h>
+#include <lcm/lcm-cpp.hpp>
+
+#include <chrono>
+#include <filesystem>
+#include <fstream>
+#include <sstream>
+#include <string>
+#include <thread>
+#include <vector>
+
+#include <tiller/esc_output_t.hpp>
+#include <tiller/heartbeat_t.hpp>
+#include <tiller/odometry_t.hpp>
+#include <tiller/sim_state_t.hpp>
+
+#include "core/angles.hpp"
+#include "runtime/channels.hpp"
+
+namespace tiller {
+namespace {
+
+const char* kUrl = "udpm://239.255.76.67:7667?ttl=0&recv_buf_size=4194304";
+const std::string kSrc = TILLER_SOURCE_DIR;
+const std::string kBin = std::string(TILLER_BIN_DIR) + "/tiller-sim";
+
+struct Proc {
+  pid_t pid = -1;
+  std::string err;
+  explicit Proc(const std::vector<std::string>& args) {
+    const auto dir =
+        std::filesystem::temp_directory_path() / ("tiller_sim_live_" + std::to_string(getpid()));
+    std::filesystem::create_directories(dir);
+    err = (dir / "stderr").string();
+    pid = fork();
+    if (pid == 0) {
+      const int e = ::open(err.c_str(), O_WRONLY | O_CREAT | O_TRUNC, 0644);
+      dup2(e, 2);
+      std::vector<std::string> all = {kBin};
+      all.insert(all.end(), args.begin(), args.end());
+      std::vector<char*> argv;
+      for (auto& a : all) argv.push_back(a.data());
+      argv.push_back(nullptr);
+      execv(kBin.c_str(), argv.data());
+      _exit(127);
+    }
+  }
+  int wait(double seconds) {
+    const auto end = std::chrono::steady_clock::now() + std::chrono::duration<double>(seconds);
+    while (std::chrono::steady_clock::now() < end) {
+      int st = 0;
+      if (waitpid(pid, &st, WNOHANG) == pid) {
+        pid = -1;
+        return WIFEXITED(st) ? WEXITSTATUS(st) : 128 + WTERMSIG(st);
+      }
+      std::this_thread::sleep_for(std::chrono::milliseconds(5));
+    }
+    return -1;
+  }
+  std::string stderr_text() const {
+    std::ifstream f(err);
+    std::stringstream s;
+    s << f.rdbuf();
+    return s.str();
+  }
+  ~Proc() {
+    if (pid > 0) {
+      kill(pid, SIGKILL);
+      waitpid(pid, nullptr, 0);
+    }
+  }
+};
+
+struct Listener {
+  std::vector<odometry_t> odom, truth;
+  std::vector<sim_state_t> state;
+  std::vector<heartbeat_t> beats;
+  void on_odom(const lcm::ReceiveBuffer*, const std::string& ch, const odometry_t* m) {
+    (ch == channels::kOdometry ? odom : truth).push_back(*m);
+  }
+  void on_state(const lcm::ReceiveBuffer*, const std::string&, const sim_state_t* m) {
+    state.push_back(*m);
+  }
+  void on_beat(const lcm::ReceiveBuffer*, const std::string&, const heartbeat_t* m) {
+    beats.push_back(*m);
+  }
+};
+
+esc_output_t full_ahead(std::int64_t utime, std::int32_t value) {
+  esc_output_t m{};
+  m.utime = utime;
+  m.backend = "sim";
+  m.armed = true;
+  m.unit = esc_output_t::UNIT_THROTTLE_INT16;
+  m.n_channels = 2;
+  m.names = {"port", "starboard"};
+  m.channel = {0, 1};
+  m.value = {value, value};
+  m.normalized = {value / 32767.0, value / 32767.0};
+  return m;
+}
+
+// Publishes `value` every 10 ms for `seconds` (value < 0: publishes nothing) while listening.
+void pump(lcm::LCM& lcm, double seconds, std::int32_t value) {
+  const auto start = std::chrono::steady_clock::now();
+  auto next = start;
+  while (std::chrono::steady_clock::now() - start < std::chrono::duration<double>(seconds)) {
+    if (value >= 0 && std::chrono::steady_clock::now() >= next) {
+      const auto m = full_ahead(0, value);
+      lcm.publish(channels::kEscOutput, &m);
+      next += std::chrono::milliseconds(10);
+    }
+    lcm.handleTimeout(2);
+  }
+}
+
+TEST(SimLive, OdometryUnderLcmAndThrustDecaysWhenEscOutputStops) {
+  lcm::LCM lcm(kUrl);
+  ASSERT_TRUE(lcm.good());
+  Listener l;
+  lcm.subscribe(channels::kOdometry, &Listener::on_odom, &l);
+  lcm.subscribe(channels::kGroundTruth, &Listener::on_odom, &l);
+  lcm.subscribe(channels::kSimState, &Listener::on_state, &l);
+  lcm.subscribe("TILLER_HEARTBEAT_SIM", &Listener::on_beat, &l);
+  Proc sim({"--vehicle", kSrc + "/config/vehicles/otter.yaml", "--lcm-url", kUrl, "--north", "5",
+            "--heading-deg", "90"});
+  pump(lcm, 3.0, 32767);
+  ASSERT_GE(l.odom.size(), 10u) << sim.stderr_text();
+  ASSERT_GE(l.truth.size(), 10u);
+  ASSERT_FALSE(l.state.empty());
+  ASSERT_FALSE(l.beats.empty());
+  EXPECT_EQ(l.beats.back().process, "sim");
+  const auto& o = l.odom.back();
+  // Heading east from (5, 0): moves east, north stays 5; surging ahead at full thrust.
+  EXPECT_NEAR(o.orientation[2], kPi / 2, 1e-9);
+  EXPECT_NEAR(o.position[0], 5.0, 1e-6);
+  EXPECT_GT(o.position[1], 1.0);
+  EXPECT_GT(o.velocity[0], 1.0);
+  EXPECT_NEAR(l.state.back().thrust[0], 119.7, 1.0);
+  // ESC output stops: after the 0.5 s timeout the thrust decays with the 0.1 s lag.
+  pump(lcm, 2.0, -1);
+  ASSERT_FALSE(l.state.empty());
+  EXPECT_LT(std::abs(l.state.back().thrust[0]), 1.0);
+  EXPECT_EQ(l.beats.back().state, heartbeat_t::STATE_DEGRADED);
+  kill(sim.pid, SIGTERM);
+  EXPECT_EQ(sim.wait(5.0), 0);
+}
+
+TEST(SimLive, MissingVehicleFileExitsWithTheFileName) {
+  Proc sim({"--vehicle", "config/vehicles/no_such_boat.yaml", "--lcm-url", kUrl});
+  EXPECT_EQ(sim.wait(5.0), 2);
+  EXPECT_NE(sim.stderr_text().find("no_such_boat.yaml"), std::string::npos) << sim.stderr_text();
+}
+
+}  // namespace
+}  // namespace tiller
