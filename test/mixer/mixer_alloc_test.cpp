@@ -1,0 +1,91 @@
+// The mixer's steady state allocates nothing: after a warm-up, MixerNode in lockstep with a
+// feeder publishing the manual demand, both wrenches, the arm state and the arbitration (the
+// source switching between them, saturating and not) runs 10 s with zero heap allocations.
+// operator new is counted for this whole binary.
+#include <gtest/gtest.h>
+
+#include <atomic>
+#include <cmath>
+#include <cstdlib>
+#include <new>
+
+#include "mixer/mixer_node.hpp"
+#include "runtime/channels.hpp"
+#include "runtime/lockstep.hpp"
+
+namespace {
+std::atomic<long> g_allocs{0};
+}
+void* operator new(std::size_t n) {
+  ++g_allocs;
+  if (void* p = std::malloc(n ? n : 1)) return p;
+  throw std::bad_alloc();
+}
+void operator delete(void* p) noexcept {
+  std::free(p);
+}
+void operator delete(void* p, std::size_t) noexcept {
+  std::free(p);
+}
+
+namespace tiller {
+namespace {
+
+class Feeder : public Node {
+ public:
+  Feeder() : Node("feeder", 10'000) {
+    arm_.armed = true;
+    arm_.reason = "test feeder";
+    arb_.reason = "test feeder";
+  }
+  void on_tick(TimeUs now) override {
+    const double s = std::sin(1e-6 * static_cast<double>(now));
+    ++k_;
+    manual_.utime = now;
+    manual_.valid = true;
+    manual_.demand[0] = s;
+    manual_.demand[1] = 0.5 * s;
+    manual_.demand[5] = -s;
+    publish(channels::kManualDemand, manual_);
+    wrench_.utime = now;
+    wrench_.valid = true;
+    wrench_.tau[0] = 300 * s;  // saturates at the peaks
+    wrench_.tau[5] = 10 * s;
+    wrench_.tau[2] = -20;
+    publish(channels::kWrenchVelocity, wrench_);
+    publish(channels::kWrenchStation, wrench_);
+    arm_.utime = now;
+    if (k_ % 10 == 0) publish(channels::kArmState, arm_);
+    if (k_ % 50 == 0) {
+      arb_.utime = now;
+      arb_.active_source = static_cast<std::int8_t>(1 + (k_ / 50) % 3);
+      publish(channels::kArbitration, arb_);
+    }
+  }
+
+ private:
+  long k_ = 0;
+  manual_demand_t manual_{};
+  wrench_t wrench_{};
+  arm_state_t arm_{};
+  arbitration_t arb_{};
+};
+
+TEST(MixerAllocation, SteadyStateAllocatesNothing) {
+  MixerNode mixer(std::string(TILLER_SOURCE_DIR) + "/config/mixer/seed001_rov6.yaml");
+  Feeder feeder;
+  LockstepExecutor ex(0);
+  ex.add(feeder);
+  ex.add(mixer);
+  ex.run_until(3 * kUsPerSecond);  // warm-up: buffers and heartbeat strings reach their size
+  const long before = g_allocs.load();
+  ex.run_until(13 * kUsPerSecond);
+  const long after = g_allocs.load();
+  EXPECT_EQ(after - before, 0) << "heap allocations in 10 s of steady-state mixing";
+  EXPECT_GT(mixer.received(), 4000);
+  EXPECT_GT(mixer.published(), 4000);
+  EXPECT_TRUE(mixer.last_command().armed);
+}
+
+}  // namespace
+}  // namespace tiller
