@@ -221,6 +221,29 @@ TEST(Allocation, OtterYawBeforeSurgeHandComputed) {
   EXPECT_NEAR(r.command[1], std::sqrt(r.thrust[1] / 119.7), 1e-12);
 }
 
+TEST(Allocation, WamvUsesEachSideOfItsEnginesLimits) {
+  // Engines at y = -+1.03 m, +250 / -100 N. N = 100 N m needs f_l - f_r = 97.09 N; surge gets
+  // the rest: f_l = 250, f_r = 152.91, X = 402.91 N. Full reverse: -100 N each.
+  const Allocator a(preset("wamv"));
+  Wrench w = Wrench::Zero();
+  w(0) = 600;
+  w(5) = 100;
+  AllocationResult r;
+  ASSERT_TRUE(a.allocate(w, r));
+  EXPECT_NEAR(r.achieved(5), 100, 1e-9);
+  EXPECT_NEAR(r.thrust[0], 250, 1e-9);
+  EXPECT_NEAR(r.thrust[1], 250 - 100 / 1.03, 1e-9);
+  EXPECT_NEAR(r.command[1], (250 - 100 / 1.03) / 250, 1e-12);
+  w << -500, 0, 0, 0, 0, 0;
+  ASSERT_TRUE(a.allocate(w, r));
+  EXPECT_NEAR(r.achieved(0), -200, 1e-9);
+  EXPECT_NEAR(r.command[0], -1.0, 1e-12);
+  EXPECT_NEAR(r.command[1], -1.0, 1e-12);
+  EXPECT_TRUE(r.axis_reduced[0]);
+  EXPECT_NEAR(a.axis_max(0, 1), 500, 1e-9);
+  EXPECT_NEAR(a.axis_max(0, -1), 200, 1e-9);
+}
+
 TEST(Allocation, ReversedThrusterChangesOnlyItsOwnEscSign) {
   std::mt19937 rng(5);
   for (const auto& name : preset_names()) {
