@@ -32,17 +32,24 @@ MixerParams load_mixer_params(const config::Value& root) {
   MixerParams p;
   const config::Value vk = root.at("vehicle");
   const std::string rel = vk.as_string();
+  // Absolute; else beside this config; else relative to one of its parent folders (so a
+  // repository-root path like config/vehicles/x.yaml works from any directory); else the
+  // current directory.
   fs::path chosen;
   if (fs::path(rel).is_absolute()) {
     chosen = rel;
   } else {
-    const fs::path beside = fs::path(root.file()).parent_path() / rel;
-    chosen = fs::exists(beside) ? beside : fs::path(rel);
+    for (fs::path dir = fs::absolute(root.file()).parent_path(); chosen.empty();
+         dir = dir.parent_path()) {
+      if (fs::exists(dir / rel)) chosen = dir / rel;
+      if (dir == dir.root_path() || dir.empty()) break;
+    }
+    if (chosen.empty()) chosen = rel;
   }
   if (!fs::exists(chosen))
     vk.fail(
-        "a vehicle file (absolute, or relative to this config's folder or the current "
-        "directory); not found: " +
+        "a vehicle file (absolute, or relative to this config's folder, one of its parents or "
+        "the current directory); not found: " +
         rel);
   p.vehicle_file = chosen.lexically_normal().string();
   p.rate_hz = root.number_or("rate_hz", 50.0, {1.0, 1000.0});

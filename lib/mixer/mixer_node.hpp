@@ -41,8 +41,8 @@ struct MixerParams {
 };
 
 // Reads config/mixer/<vehicle>.yaml (strict). `vehicle:` is resolved relative to the config
-// file's folder first, then to the current directory (the repository root when run from
-// there); an absolute path works from anywhere.
+// file's folder first, then to each of its parent folders (so a path from the repository root
+// works from any directory), then to the current directory; an absolute path works anywhere.
 MixerParams load_mixer_params(const config::Value& root);
 
 // The source the mixer must allocate now (seed 004's choose_pid decision, made upstream by

@@ -301,6 +301,21 @@ TEST(MixerConfig, BadFilesNameTheKey) {
   EXPECT_NE(e.find("fallback_source"), std::string::npos) << e;
   e = error_of(write("vehicle: " + kSrc + "/config/vehicles/otter.yaml\nrate: 5\n"));
   EXPECT_NE(e.find("rate"), std::string::npos) << e;
+  // A path from the repository root, from a config inside the tree, from any directory.
+  {
+    const auto tree = dir / "tree";
+    std::filesystem::create_directories(tree / "config/mixer");
+    std::filesystem::create_directories(tree / "config/vehicles");
+    std::filesystem::copy_file(kSrc + "/config/vehicles/otter.yaml",
+                               tree / "config/vehicles/otter.yaml",
+                               std::filesystem::copy_options::overwrite_existing);
+    const std::string cfg = (tree / "config/mixer/m.yaml").string();
+    std::ofstream(cfg) << "vehicle: config/vehicles/otter.yaml\n";
+    const auto here = std::filesystem::current_path();
+    std::filesystem::current_path("/");
+    EXPECT_EQ(error_of(cfg), "(no error)");
+    std::filesystem::current_path(here);
+  }
   // Absolute vehicle path: fine from anywhere.
   EXPECT_EQ(error_of(write("vehicle: " + kSrc + "/config/vehicles/otter.yaml\n")), "(no error)");
 }
