@@ -59,6 +59,17 @@ DynamicsParams load_dynamics(const config::Value& d) {
       for (int j = 0; j < 3; ++j) p.mass_matrix(idx[i], idx[j]) = row[static_cast<std::size_t>(j)];
     }
     check_positive_definite(rows, p.mass_matrix);
+    p.coriolis_mass_matrix = p.mass_matrix;
+    if (auto cm = d.find("coriolis_mass_matrix")) {
+      if (!cm->is_sequence() || cm->size() != 3) cm->fail("3 rows of 3 numbers ([u v r])");
+      for (int i = 0; i < 3; ++i) {
+        const auto row = (*cm)[static_cast<std::size_t>(i)].as_numbers(3);
+        for (int j = 0; j < 3; ++j)
+          p.coriolis_mass_matrix(idx[i], idx[j]) = row[static_cast<std::size_t>(j)];
+      }
+      if (!p.coriolis_mass_matrix.isApprox(p.coriolis_mass_matrix.transpose(), 1e-12))
+        cm->fail("a symmetric matrix");
+    }
     const auto lin = d.numbers("linear_damping", 3, nonneg);
     const auto quad = d.numbers("quadratic_damping", 3, nonneg);
     for (int i = 0; i < 3; ++i) {
@@ -88,6 +99,7 @@ DynamicsParams load_dynamics(const config::Value& d) {
     p.buoyancy_n = p.water_density_kg_m3 * p.gravity_m_s2 * volume;
     p.mass_matrix = rigid_body_mass_matrix(p.mass_kg, inertia, p.center_of_gravity_m);
     p.mass_matrix.diagonal() += added;
+    p.coriolis_mass_matrix = p.mass_matrix;
     check_positive_definite(d.at("inertia_kg_m2"), p.mass_matrix);
   }
   return p;

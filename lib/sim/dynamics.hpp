@@ -45,6 +45,11 @@ struct DynamicsParams {
   // Total mass matrix M = M_RB + M_A (symmetric, positive definite). For surface_3dof only the
   // rows and columns of u, v and r are meaningful (the others hold 1 on the diagonal).
   Matrix6 mass_matrix = Matrix6::Identity();
+  // Mass matrix whose Coriolis-centripetal forces are modelled (Fossen Theorem 3.2 applied to
+  // it). Default: mass_matrix (rigid body and added mass). Fossen's otter.py neglects the
+  // added-mass (Munk) terms in yaw, which makes its C the rigid body's alone; the Otter's file
+  // says so with `coriolis_mass_matrix`.
+  Matrix6 coriolis_mass_matrix = Matrix6::Identity();
   // Damping: force_i = -(linear_i + quadratic_i |nu_r,i|) nu_r,i (both >= 0).
   Vector6 linear_damping = Vector6::Zero();
   Vector6 quadratic_damping = Vector6::Zero();

@@ -35,7 +35,10 @@ VesselModel::VesselModel(const DynamicsParams& params, std::span<const ThrusterG
   m_inv_ = p_.mass_matrix.inverse();
   constexpr int idx[3] = {0, 1, 5};
   for (int i = 0; i < 3; ++i)
-    for (int j = 0; j < 3; ++j) m3_(i, j) = p_.mass_matrix(idx[i], idx[j]);
+    for (int j = 0; j < 3; ++j) {
+      m3_(i, j) = p_.mass_matrix(idx[i], idx[j]);
+      c3_(i, j) = p_.coriolis_mass_matrix(idx[i], idx[j]);
+    }
   m3_inv_ = m3_.inverse();
 }
 
@@ -166,8 +169,8 @@ void VesselModel::derivative(const Vector6& eta, const Vector6& nu, const Vector
     nu_r[1] = nu[1] - vc;
     nu_r[5] = r;
     // C(nu_r) nu_r for the 3x3 M (the 6-DOF formula with w = p = q = 0).
-    const double ax = m3_(0, 0) * nu_r[0] + m3_(0, 1) * nu_r[1] + m3_(0, 2) * r;
-    const double ay = m3_(1, 0) * nu_r[0] + m3_(1, 1) * nu_r[1] + m3_(1, 2) * r;
+    const double ax = c3_(0, 0) * nu_r[0] + c3_(0, 1) * nu_r[1] + c3_(0, 2) * r;
+    const double ay = c3_(1, 0) * nu_r[0] + c3_(1, 1) * nu_r[1] + c3_(1, 2) * r;
     const Vector6 d = damping(nu_r);
     const Vector6 w = env.wind ? wind(eta, nu, env.wind_ned) : Vector6::Zero();
     const Eigen::Vector3d rhs(tau_thr[0] + w[0] + ay * r - d[0], tau_thr[1] + w[1] - ax * r - d[1],
@@ -189,7 +192,7 @@ void VesselModel::derivative(const Vector6& eta, const Vector6& nu, const Vector
   Vector6 nu_r = nu;
   nu_r.head<3>() -= v_c;
   const Vector3 v1 = nu_r.head<3>();
-  const Matrix6& m = p_.mass_matrix;
+  const Matrix6& m = p_.coriolis_mass_matrix;
   // Theorem 3.2: C(nu) nu = [-a x nu2; -a x nu1 - b x nu2], a = M11 nu1 + M12 nu2,
   // b = M21 nu1 + M22 nu2.
   const Vector3 a = m.topLeftCorner<3, 3>() * v1 + m.topRightCorner<3, 3>() * omega;

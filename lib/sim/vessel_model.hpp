@@ -85,6 +85,7 @@ class VesselModel {
   bool surface_;
   Matrix6 m_inv_;
   Matrix3 m3_;      // surface: M over [u v r]
+  Matrix3 c3_;      // surface: the Coriolis mass matrix over [u v r]
   Matrix3 m3_inv_;  // its inverse
   int n_ = 0;
   std::array<Vector6, kMaxThrusters> b_{};

@@ -14,6 +14,7 @@ namespace tiller::sim::test {
 inline const char* kOtterDynamics = R"(
 model: surface_3dof
 mass_matrix: [[85.5, 0, 0], [0, 162.5, 12.25], [0, 12.25, 42.65]]
+coriolis_mass_matrix: [[80, 0, 0], [0, 80, 12.25], [0, 12.25, 15.8]]
 linear_damping: [77.55, 162.5, 42.65]
 quadratic_damping: [0, 0, 426.5]
 cross_flow_drag: {length_m: 2.0, draft_m: 0.195, cd: 1.0}
