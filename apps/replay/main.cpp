@@ -97,7 +97,9 @@ int main(int argc, char** argv) {
     std::vector<const ProcessEntry*> chosen;
     const std::string which = a.get("process");
     for (const auto& e : entries) {
-      if (which == "all") {
+      if (which == "all" && !configs.empty() && !configs.count(e.name)) {
+        continue;  // a manifest names the processes to replay
+      } else if (which == "all") {
         const std::string hb = heartbeat_channel_of(e.name);
         bool ran = false;
         for (const auto& ev : log) {

@@ -29,14 +29,31 @@ ChannelReport compare_channel(const std::string& channel, const std::vector<Even
   r.replayed = replayed.size();
   const auto& db = logtools::tiller_types();
   logtools::Decoded a, b;
-  const std::size_t n = std::min(recorded.size(), replayed.size());
+  // Exact mode (no time tolerance): the i-th recorded message against the i-th replayed one.
+  // With a time tolerance (live logs): each recorded message against the replayed one nearest
+  // in time, which must lie within the tolerance; fields named *utime get the time tolerance.
+  r.by_time = tol.time_us > 0;
+  const std::size_t n = r.by_time ? recorded.size() : std::min(recorded.size(), replayed.size());
+  std::size_t j = 0;
   for (std::size_t i = 0; i < n; ++i) {
     const Event& o = recorded[i];
-    const Event& w = replayed[i];
     std::optional<Difference> diff;
     auto note = [&](const std::string& field, const std::string& ov, const std::string& nv) {
       if (!diff) diff = Difference{o.time, i, field, ov, nv};
     };
+    if (r.by_time) {
+      while (j + 1 < replayed.size() &&
+             std::llabs(replayed[j + 1].time - o.time) <= std::llabs(replayed[j].time - o.time))
+        ++j;
+      if (replayed.empty() || std::llabs(replayed[j].time - o.time) > tol.time_us) {
+        note("time", std::to_string(o.time),
+             "no message within " + std::to_string(tol.time_us) + " us");
+        ++r.differing;
+        if (!r.first) r.first = diff;
+        continue;
+      }
+    }
+    const Event& w = r.by_time ? replayed[j] : replayed[i];
     if (std::llabs(o.time - w.time) > tol.time_us)
       note("time", std::to_string(o.time), std::to_string(w.time));
     if (o.data != w.data) {
@@ -65,7 +82,11 @@ ChannelReport compare_channel(const std::string& channel, const std::vector<Even
           }
           const bool both_nan = std::isnan(fa.number) && std::isnan(fb.number);
           const double d = both_nan ? 0.0 : std::fabs(fa.number - fb.number);
-          if (!both_nan && !(d <= tol.abs)) note(fa.path, fmt(fa.number), fmt(fb.number));
+          const bool is_time =
+              fa.path.size() >= 5 && fa.path.compare(fa.path.size() - 5, 5, "utime") == 0;
+          const double allowed = is_time && r.by_time ? static_cast<double>(tol.time_us) : tol.abs;
+          if (!both_nan && !(d <= allowed)) note(fa.path, fmt(fa.number), fmt(fb.number));
+          if (is_time && r.by_time) continue;  // not a value difference
           if (!std::isnan(d) && d > r.max_abs_diff) {
             r.max_abs_diff = d;
             r.max_abs_field = fa.path;
@@ -86,7 +107,7 @@ ChannelReport compare_channel(const std::string& channel, const std::vector<Even
       ++r.matching;
     }
   }
-  if (recorded.size() != replayed.size() && !r.first) {
+  if (!r.by_time && recorded.size() != replayed.size() && !r.first) {
     const std::size_t i = n;
     const TimeUs t = i < recorded.size() ? recorded[i].time : replayed[i].time;
     r.first =
