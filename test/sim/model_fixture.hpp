@@ -49,13 +49,13 @@ model: underwater_6dof
 mass_kg: 13.5
 inertia_kg_m2: [0.26, 0.23, 0.37]
 center_of_gravity_m: [0, 0, 0]
-center_of_buoyancy_m: [0, 0, -0.05]
+center_of_buoyancy_m: [0, 0, -0.10]
 displaced_volume_m3: 0.0134
 water_density_kg_m3: 1000
 added_mass: [6.36, 7.12, 18.68, 0.189, 0.135, 0.222]
 linear_damping: [13.7, 0, 33.0, 0, 0.8, 0]
 quadratic_damping: [141, 217, 190, 1.19, 0.47, 1.50]
-damping_center_m: [0, 0, 0.085]
+damping_center_m: [0, 0, 0.0425]
 thruster_time_constant_s: 0.05
 )";
 
