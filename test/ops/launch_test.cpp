@@ -452,3 +452,33 @@ TEST(LaunchFiles, EveryShippedFileChecksAndNamesExistingFiles) {
 
 }  // namespace
 }  // namespace tiller::launch
+
+namespace tiller::launch {
+namespace {
+
+// lcm-logger gets the URL as --lcm-url= (1.3.1's -l is broken), last before the file name (given
+// before --split-mb it loses the name), and split/rotate from the launch file.
+TEST(LaunchFiles, LoggerCommandLineFromConfig) {
+  const fs::path dir =
+      fs::temp_directory_path() / ("tiller-logger-args-" + std::to_string(::getpid()));
+  fs::create_directories(dir);
+  std::ofstream(dir / "l.yaml") << "name: l\nroot: .\nlcm_url: udpm://239.255.76.67:7667?ttl=0\n"
+                                   "logger: {dir: mylogs, split_mb: 2.5, channels: 'TILLER_.*'}\n"
+                                   "processes:\n  - {name: a, command: sh}\n";
+  const std::string out = (dir / "out.txt").string();
+  const std::string cmd = std::string(TILLER_BIN_DIR) + "/tiller-launch --check " +
+                          (dir / "l.yaml").string() + " --log-file " +
+                          (dir / "run.lcmlog").string() + " > " + out;
+  ASSERT_EQ(std::system(cmd.c_str()), 0);
+  std::stringstream ss;
+  ss << std::ifstream(out).rdbuf();
+  EXPECT_NE(ss.str().find("lcm-logger --quiet --channel=TILLER_.* --split-mb=2.500000 --increment "
+                          "--lcm-url=udpm://239.255.76.67:7667?ttl=0 " +
+                          (dir / "run.lcmlog").string()),
+            std::string::npos)
+      << ss.str();
+  fs::remove_all(dir);
+}
+
+}  // namespace
+}  // namespace tiller::launch
