@@ -154,6 +154,22 @@ TEST(SimLive, OdometryUnderLcmAndThrustDecaysWhenEscOutputStops) {
   EXPECT_EQ(sim.wait(5.0), 0);
 }
 
+TEST(SimLive, EveryVehicleFileRunsAndPublishesOdometry) {
+  for (const char* v : {"otter", "wamv", "seed000_rov4", "seed001_rov6", "seed004_usv_x",
+                        "seed004_usv_x_table", "seed004_usv_h"}) {
+    lcm::LCM lcm(kUrl);
+    ASSERT_TRUE(lcm.good());
+    Listener l;
+    lcm.subscribe(channels::kOdometry, &Listener::on_odom, &l);
+    Proc sim({"--vehicle", kSrc + "/config/vehicles/" + v + ".yaml", "--lcm-url", kUrl});
+    const auto end = std::chrono::steady_clock::now() + std::chrono::seconds(5);
+    while (l.odom.size() < 3 && std::chrono::steady_clock::now() < end) lcm.handleTimeout(10);
+    EXPECT_GE(l.odom.size(), 3u) << v << ": " << sim.stderr_text();
+    kill(sim.pid, SIGTERM);
+    EXPECT_EQ(sim.wait(5.0), 0) << v;
+  }
+}
+
 TEST(SimLive, MissingVehicleFileExitsWithTheFileName) {
   Proc sim({"--vehicle", "config/vehicles/no_such_boat.yaml", "--lcm-url", kUrl});
   EXPECT_EQ(sim.wait(5.0), 2);
