@@ -80,6 +80,9 @@ EscConfig load_esc_config(const config::Value& root) {
       from_seconds(root.number_or("command_timeout_ms", 250, {10, 10000}) / 1000.0);
   c.node.disarm_on_timeout = root.boolean_or("disarm_on_timeout", true);
   c.node.arm_neutral_tolerance = root.number_or("arm_neutral_tolerance", 0.02, {0, 0.2});
+  c.node.write_on_command = root.boolean_or("write_on_command", true);
+  c.node.min_write_interval_us =
+      from_seconds(root.number_or("min_write_interval_ms", 2, {0, 1000}) / 1000.0);
   c.node.missing_esc = root.choice_or("missing_esc", "refuse", {"refuse", "degraded"}) == "refuse"
                            ? MissingEscPolicy::kRefuse
                            : MissingEscPolicy::kDegraded;

@@ -5,6 +5,7 @@
 // vehicle file (the one place a thruster is reversed, see SHARED_DECISIONS / README). Keys:
 //   vehicle, backend (i2c_tgy | pca9685 | sim | dry_run), rate_hz, command_timeout_ms,
 //   disarm_on_timeout, arm_neutral_tolerance, missing_esc (refuse | degraded),
+//   write_on_command, min_write_interval_ms,
 //   i2c_tgy: {bus, telemetry, motor_poles}
 //   pca9685: {bus, address, pwm_hz, oscillator_hz, oscillator_calibration, external_clock_hz,
 //             output (totem_pole | open_drain), min_us, neutral_us, max_us}
@@ -38,6 +39,11 @@ struct EscNodeParams {
   bool disarm_on_timeout = true;        // and disarm (the pilot must arm again)
   double arm_neutral_tolerance = 0.02;  // |command| <= this counts as neutral for arming
   MissingEscPolicy missing_esc = MissingEscPolicy::kRefuse;
+  // Write at once when a new command arrives (armed), not only on the next cycle: the stick ->
+  // ESC latency then does not wait up to one cycle. At most one extra write per
+  // min_write_interval_us, so a burst of commands cannot flood the bus.
+  bool write_on_command = true;
+  TimeUs min_write_interval_us = 2'000;
 };
 
 struct DryRunParams {

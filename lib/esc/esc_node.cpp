@@ -155,6 +155,15 @@ void EscNode::on_command(const thruster_command_t& m, TimeUs now) {
   }
   command_freshness_.mark(now);
   command_fresh_ = true;
+  // Out at once (armed only: disarmed, the cycle's neutral is all there is to send).
+  // The cycle's own writes do not count against the interval: a command that arrives just
+  // after a cycle still goes out at once.
+  if (p_.write_on_command && armed_ && started_ &&
+      (!have_extra_write_ || now - last_extra_write_ >= p_.min_write_interval_us)) {
+    last_extra_write_ = now;
+    have_extra_write_ = true;
+    write_cycle(now, false, /*poll_telemetry=*/false);
+  }
 }
 
 bool EscNode::commands_neutral(TimeUs now, std::size_t* worst) {
@@ -220,7 +229,7 @@ void EscNode::on_tick(TimeUs now) {
       set_armed(false, buf, now);
     }
   }
-  write_cycle(now, false);
+  write_cycle(now, false, /*poll_telemetry=*/true);
   if (now >= next_10hz_) {
     publish_arm_state(now);
     publish_status(now);
@@ -230,7 +239,7 @@ void EscNode::on_tick(TimeUs now) {
   }
 }
 
-void EscNode::write_cycle(TimeUs now, bool force_neutral) {
+void EscNode::write_cycle(TimeUs now, bool force_neutral, bool poll_telemetry) {
   double dt = have_cycle_ ? to_seconds(now - last_cycle_) : to_seconds(tick_period());
   dt = std::clamp(dt, 0.0, 1.0);
   last_cycle_ = now;
@@ -258,7 +267,9 @@ void EscNode::write_cycle(TimeUs now, bool force_neutral) {
     hw_[i] = backend_->to_hardware(i, m);
   }
   backend_->write(hw_.data(), now);
-  backend_->poll_telemetry(now);
+  // Telemetry is read on the cycle only (round robin, one ESC per cycle), never on a
+  // command-triggered write, so the reads keep their steady share of the bus.
+  if (poll_telemetry) backend_->poll_telemetry(now);
   ++cycles_;
   out_.utime = now;
   out_.armed = active;
@@ -351,7 +362,7 @@ void EscNode::update_health() {
 void EscNode::shutdown(TimeUs now) {
   if (!started_) start(now);
   set_armed(false, "shutdown: neutral written to every ESC", now);
-  write_cycle(now, true);
+  write_cycle(now, true, /*poll_telemetry=*/false);
   publish_status(now);
 }
 

@@ -13,6 +13,8 @@
 // Arming: an arm request arms only while the commands are neutral (|u| <= tolerance for every
 // thruster, or no fresh command); a disarm request always disarms. With disarm_on_timeout the
 // command timeout also disarms.
+// A new command while armed is also written at once (write_on_command, default on; at most
+// one extra write per min_write_interval), so the stick -> ESC latency does not wait a cycle.
 // Outputs: TILLER_ESC_OUTPUT every cycle (what went on the bus, hardware units, and the same
 // value mapped back to normalised motor units), TILLER_ARM_STATE on change and at 10 Hz,
 // TILLER_ESC_STATUS and TILLER_ESC_TELEMETRY at 10 Hz. shutdown() writes neutral to every ESC.
@@ -70,7 +72,7 @@ class EscNode : public Node {
   bool commands_neutral(TimeUs now, std::size_t* worst);
   void set_armed(bool armed, const std::string& reason, TimeUs now);
   void publish_arm_state(TimeUs now);
-  void write_cycle(TimeUs now, bool force_neutral);
+  void write_cycle(TimeUs now, bool force_neutral, bool poll_telemetry);
   void publish_status(TimeUs now);
   void publish_telemetry(TimeUs now);
   void update_health();
@@ -93,6 +95,8 @@ class EscNode : public Node {
   std::vector<std::int32_t> hw_;
   TimeUs last_cycle_ = 0;
   bool have_cycle_ = false;
+  TimeUs last_extra_write_ = 0;  // the last command-triggered write (write_on_command)
+  bool have_extra_write_ = false;
   TimeUs next_10hz_ = 0;
   std::int64_t cycles_ = 0;
   std::int64_t timeouts_ = 0;

@@ -1,6 +1,7 @@
-// Cost of one ESC cycle (a thruster command delivered, then the node's tick: safety logic, one
-// write per ESC on the fake bus with device models, one telemetry read, the output message
-// encoded) for 4 and 8 ESCs, and the heap allocations per cycle (must be 0).
+// Cost of one ESC cycle for 4 and 8 ESCs: a thruster command delivered mid-period and written at
+// once (one write per ESC), then the node's tick (safety logic, one write per ESC on the fake
+// bus with device models, one telemetry read), each with its output message encoded; and the
+// heap allocations per cycle (must be 0). bus_transactions_per_cycle is 2n + 1 for tgy.
 #include <benchmark/benchmark.h>
 
 #include "alloc_count.hpp"

@@ -2,6 +2,7 @@
 // name, command timeout, reverse, trim, slew through zero, bad input, 10 Hz messages, lockstep.
 #include <gtest/gtest.h>
 
+#include <algorithm>
 #include <cmath>
 
 #include <tiller/arm_state_t.hpp>
@@ -102,6 +103,46 @@ TEST(EscNode, ReversedFlipsOnlyItsOwnSign) {
   EXPECT_EQ(o.value[3], v);
 }
 
+TEST(EscNode, ArmedCommandIsWrittenAtOnceAtMostOncePerInterval) {
+  // write_on_command: a new command while armed goes on the bus at the instant it arrives, not
+  // at the next 10 ms cycle, even just after a cycle's write; a burst is held to one extra write
+  // per min_write_interval (2 ms);
+  // disarmed, nothing extra is written (the cycle's neutral is all there is).
+  Rig r(sim_yaml("disarm_on_timeout: false\n"));
+  r.run_until(0);
+  r.command({0.5, 0.5, 0.5, 0.5});
+  EXPECT_EQ(r.cap.all<esc_output_t>(channels::kEscOutput).size(), 1u);  // the tick at 0 only
+  r.arm(true);  // not neutral: refused, still only the tick's write
+  r.run_until(20'000);
+  r.command({0.0, 0.0, 0.0, 0.0});
+  r.arm(true);
+  ASSERT_TRUE(r.node->armed());
+  r.run_until(21'000);
+  const std::size_t before = r.cap.all<esc_output_t>(channels::kEscOutput).size();
+  r.command({0.25, 0.0, 0.0, 0.0});  // 1 ms after the 20 ms cycle: written at once
+  auto outs = r.cap.all<esc_output_t>(channels::kEscOutput);
+  ASSERT_EQ(outs.size(), before + 1);
+  EXPECT_EQ(outs.back().utime, 21'000);
+  EXPECT_TRUE(outs.back().armed);
+  EXPECT_EQ(outs.back().value[0], std::lround(0.25 * 32767));
+  r.run_until(22'500);
+  r.command({0.5, 0.0, 0.0, 0.0});  // 1.5 ms after the last extra write: waits for the cycle
+  EXPECT_EQ(r.cap.all<esc_output_t>(channels::kEscOutput).size(), before + 1);
+  r.run_until(30'000);
+  outs = r.cap.all<esc_output_t>(channels::kEscOutput);
+  ASSERT_EQ(outs.size(), before + 2);
+  EXPECT_EQ(outs.back().utime, 30'000);
+  EXPECT_EQ(outs.back().value[0], std::lround(0.5 * 32767));
+
+  Rig off(sim_yaml("disarm_on_timeout: false\nwrite_on_command: false\n"));
+  off.run_until(20'000);
+  off.arm(true);
+  off.run_until(23'000);
+  const std::size_t n = off.cap.all<esc_output_t>(channels::kEscOutput).size();
+  off.command({0.25, 0.0, 0.0, 0.0});
+  EXPECT_EQ(off.cap.all<esc_output_t>(channels::kEscOutput).size(), n);
+}
+
 TEST(EscNode, TimeoutGoesNeutralKeepsWritingAndDisarms) {
   Rig r(sim_yaml());
   r.arm(true);
@@ -176,8 +217,16 @@ TEST(EscNode, SlewLimitRampsThroughZeroOnReversal) {
   const std::vector<double> expect = {0.1, 0.2, 0.3, 0.3, 0.2, 0.1, 0.0, -0.1, -0.2, -0.25, -0.25};
   ASSERT_EQ(seen.size(), expect.size());
   for (std::size_t k = 0; k < seen.size(); ++k) EXPECT_NEAR(seen[k], expect[k], 1e-4) << k;
-  // Exactly zero on the bus for the cycle between the two directions.
-  EXPECT_EQ(r.cap.all<esc_output_t>(channels::kEscOutput)[6].value[0], 0);
+  // Exactly zero on the bus for the cycle between the two directions (t = 60 ms; the reversed
+  // command itself arrived at 30 ms and was written at once, with no time to slew).
+  int at_60ms = 0;
+  for (const auto& o : r.cap.all<esc_output_t>(channels::kEscOutput)) {
+    if (o.utime == 60'000) {
+      EXPECT_EQ(o.value[0], 0);
+      ++at_60ms;
+    }
+  }
+  EXPECT_EQ(at_60ms, 1);
 }
 
 TEST(EscNode, SlewDoesNotDelayDisarm) {
@@ -264,11 +313,15 @@ TEST(EscNode, RunsInLockstepAndIsDeterministic) {
   };
   const auto a = run();
   const auto b = run();
-  ASSERT_EQ(a.size(), 201u);
+  // 201 cycles (0..2 s at 100 Hz) + 50 commands written at once (armed, write_on_command).
+  ASSERT_EQ(a.size(), 251u);
   ASSERT_EQ(a.size(), b.size());
   for (std::size_t k = 0; k < a.size(); ++k) ASSERT_EQ(a[k].data, b[k].data);
   esc_output_t o;
-  ASSERT_TRUE(decode(a[50], o));  // t = 0.5 s: armed and commanded
+  const auto at_half =
+      std::find_if(a.begin(), a.end(), [](const Event& e) { return e.time == 500'000; });
+  ASSERT_NE(at_half, a.end());
+  ASSERT_TRUE(decode(*at_half, o));  // t = 0.5 s: armed and commanded
   EXPECT_TRUE(o.armed);
   EXPECT_EQ(o.value[1], std::lround(0.5 * 32767));
   EXPECT_EQ(o.value[2], std::lround(0.5 * 32767));  // reversed

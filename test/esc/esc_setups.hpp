@@ -72,10 +72,12 @@ struct Steady {
     node->tick(0);
     node->deliver(channels::kArmRequest, arm.data.data(), static_cast<int>(arm.data.size()), 0);
   }
-  // One cycle: a fresh command arrives, then the node writes every ESC.
+  // One cycle: a fresh command arrives half a period after the last tick and is written at once
+  // (write_on_command), then the tick writes every ESC again and reads one ESC's telemetry.
   void cycle() {
-    now += node->tick_period();
+    now += node->tick_period() / 2;
     node->deliver(command.channel, command.data.data(), static_cast<int>(command.data.size()), now);
+    now += node->tick_period() - node->tick_period() / 2;
     node->tick(now);
   }
 };

@@ -88,7 +88,9 @@ TEST(Pca9685, PulseWidthBytesForKnownCommands) {
   r.command({1.0, -1.0, -0.5, 0.5});
   r.run_until(10'000);
   const auto& log = r.bus.log();
-  ASSERT_EQ(log.size(), 4u);
+  // Written at once on the command (armed), then the same 4 writes on the 10 ms cycle.
+  ASSERT_EQ(log.size(), 8u);
+  for (std::size_t k = 0; k < 4; ++k) EXPECT_EQ(log[k + 4].wrote, log[k].wrote);
   EXPECT_EQ(log[0].wrote, (Bytes{0x06, 0x00, 0x00, 0x85, 0x01}));  // 1900 us -> 389 = 0x185
   EXPECT_EQ(log[1].wrote, (Bytes{0x0A, 0x00, 0x00, 0xE1, 0x00}));  // 1100 us -> 225 = 0xE1
   // back_left is reversed: -0.5 -> +0.5 -> 1700 us -> 348.4 -> 348 = 0x15C.

@@ -49,7 +49,13 @@ TEST(Tgy, ExactBytesForKnownCommands) {
   r.command({0.5, -1.0, 0.25, 0.0});
   r.run_until(10'000);
   const auto& log = r.bus.log();
-  ASSERT_EQ(log.size(), 4u);  // one write per ESC per cycle, nothing else
+  // One write per ESC at once on the command (t = 0, armed), then the same again on the 10 ms
+  // cycle; nothing else.
+  ASSERT_EQ(log.size(), 8u);
+  for (std::size_t k = 0; k < 4; ++k) {
+    EXPECT_EQ(log[k + 4].addr, log[k].addr);
+    EXPECT_EQ(log[k + 4].wrote, log[k].wrote);
+  }
   // 0.5 -> round(16383.5) = 16384 = 0x4000, big-endian after the register byte.
   EXPECT_EQ(log[0].addr, 0x29);
   EXPECT_EQ(log[0].wrote, (Bytes{0x00, 0x40, 0x00}));
@@ -71,6 +77,31 @@ TEST(Tgy, ExactBytesForKnownCommands) {
   EXPECT_EQ(o.backend, "i2c_tgy");
   EXPECT_EQ(o.value, (std::vector<std::int32_t>{16384, -32767, -8192, 0}));
   EXPECT_EQ(o.channel, (std::vector<std::int32_t>{0x29, 0x2a, 0x2b, 0x2c}));
+}
+
+TEST(Tgy, CommandBetweenCyclesIsWrittenAtOnceWithoutATelemetryRead) {
+  // write_on_command: 3 ms after a cycle, a new command puts exactly one [0x00 hi lo] per ESC on
+  // the bus at that instant; the telemetry read stays on the cycle (round robin).
+  Rig r(tgy_yaml("disarm_on_timeout: false\n"));
+  r.arm(true);
+  r.run_until(10'000);
+  r.bus.record(true);
+  r.run_until(13'000);
+  r.command({0.5, 0.0, 0.0, -1.0});
+  const auto& log = r.bus.log();
+  ASSERT_EQ(log.size(), 4u);
+  for (std::size_t i = 0; i < 4; ++i) {
+    EXPECT_FALSE(log[i].read);
+    EXPECT_EQ(log[i].addr, 0x29 + i);
+  }
+  EXPECT_EQ(log[0].wrote, (Bytes{0x00, 0x40, 0x00}));
+  EXPECT_EQ(log[3].wrote, (Bytes{0x00, 0x80, 0x01}));
+  EXPECT_EQ(r.tgy[0x29]->output(), 16384);
+  r.run_until(20'000);  // the cycle: 4 writes + one telemetry read
+  ASSERT_EQ(log.size(), 9u);
+  int reads = 0;
+  for (std::size_t i = 4; i < 9; ++i) reads += log[i].read ? 1 : 0;
+  EXPECT_EQ(reads, 1);
 }
 
 TEST(Tgy, FullScaleBothWays) {
