@@ -1,5 +1,6 @@
 #include "runtime/live.hpp"
 
+#include <lcm/lcm.h>
 #include <poll.h>
 #include <signal.h>
 #include <time.h>
@@ -8,6 +9,8 @@
 #include <algorithm>
 #include <atomic>
 #include <cerrno>
+#include <cstdio>
+#include <cstring>
 #include <limits>
 #include <stdexcept>
 
@@ -70,10 +73,14 @@ void LiveExecutor::add(Node& node) {
   node.attach(bus_.get());
   nodes_.push_back(&node);
   next_tick_.push_back(node.next_tick_at_or_after(wall_time_us()));
+  tick_failures_.push_back(0);
   for (const auto& ch : node.subscribed_channels()) {
     if (std::find(subscribed_.begin(), subscribed_.end(), ch) != subscribed_.end()) continue;
     subscribed_.push_back(ch);
-    lcm_->subscribeFunction(ch, &LiveExecutor::on_message, this);
+    // The C API: lcm-cpp 1.3.1's callbacks turn the channel into a std::string per message
+    // (a heap allocation for names over 15 characters, e.g. TILLER_THRUSTER_COMMAND).
+    // LCM treats the name as a regular expression; Tiller's channel names are plain words.
+    lcm_subscribe(lcm_->getUnderlyingLCM(), ch.c_str(), &LiveExecutor::on_message, this);
   }
 }
 
@@ -82,17 +89,17 @@ void LiveExecutor::add_fd(int fd, std::function<void(TimeUs)> on_readable) {
 }
 
 void LiveExecutor::remove_fd(int fd) {
-  fds_.erase(std::remove_if(fds_.begin(), fds_.end(), [fd](const Fd& f) { return f.fd == fd; }),
-             fds_.end());
+  // Marked here, erased at the top of the next loop: a callback may remove its own fd.
+  for (auto& f : fds_)
+    if (f.fd == fd) f.fd = -1;
 }
 
-void LiveExecutor::on_message(const lcm::ReceiveBuffer* rbuf, const std::string& channel,
-                              LiveExecutor* self) {
+void LiveExecutor::on_message(const lcm_recv_buf_t* rbuf, const char* channel, void* user) {
+  auto* self = static_cast<LiveExecutor*>(user);
   const TimeUs now = wall_time_us();
-  for (Node* n : self->nodes_) {
-    if (n->subscribes_to(channel))
-      n->deliver(channel, rbuf->data, static_cast<int>(rbuf->data_size), now);
-  }
+  const std::string_view ch(channel);
+  // Node::deliver never throws: a handler's exception is caught, counted and latched there.
+  for (Node* n : self->nodes_) n->deliver(ch, rbuf->data, static_cast<int>(rbuf->data_size), now);
 }
 
 void LiveExecutor::stop() {
@@ -103,15 +110,45 @@ void LiveExecutor::publish_raw(const std::string& channel, const void* data, int
   lcm_->publish(channel, data, static_cast<unsigned>(size));
 }
 
+int LiveExecutor::finish(int status) {
+  const TimeUs now = wall_time_us();
+  for (Node* n : nodes_) {
+    if (status != 0) n->publish_heartbeat_now(now);  // the last heartbeat says FAULT
+    try {
+      n->shutdown(now);
+    } catch (const std::exception& e) {
+      std::fprintf(stderr, "%s: shutdown() threw: %s\n", n->name().c_str(), e.what());
+      status = kExitFault;
+    } catch (...) {
+      std::fprintf(stderr, "%s: shutdown() threw\n", n->name().c_str());
+      status = kExitFault;
+    }
+  }
+  return status;
+}
+
 int LiveExecutor::run() {
   std::vector<pollfd> pfds;
+  std::vector<Fd*> owners;
+  int fd_failures = 0;
   while (!stop_ && !g_signalled.load()) {
     TimeUs now = wall_time_us();
-    // Tick every node that is due (a late loop catches up by skipping to the next grid point).
+    // Tick every node that is due, told its grid time. A loop that fell behind runs only the
+    // latest due grid point and counts the skipped ones.
     for (std::size_t i = 0; i < nodes_.size(); ++i) {
-      if (next_tick_[i] <= now) {
-        nodes_[i]->tick(now);
-        next_tick_[i] = nodes_[i]->next_tick_at_or_after(now + 1);
+      if (next_tick_[i] > now) continue;
+      Node& n = *nodes_[i];
+      const TimeUs period = n.tick_period();
+      const TimeUs behind = (now - next_tick_[i]) / period;
+      n.count_missed_ticks(behind);
+      const TimeUs t = next_tick_[i] + behind * period;
+      next_tick_[i] = t + period;
+      if (n.tick(t)) {
+        tick_failures_[i] = 0;
+      } else if (++tick_failures_[i] >= kMaxConsecutiveFailures) {
+        std::fprintf(stderr, "%s: on_tick threw %d times in a row (%s); shutting down\n",
+                     n.name().c_str(), tick_failures_[i], n.fault_status().c_str());
+        return finish(kExitFault);
       }
     }
     TimeUs wake = std::numeric_limits<TimeUs>::max();
@@ -121,30 +158,45 @@ int LiveExecutor::run() {
     if (wake != std::numeric_limits<TimeUs>::max()) {
       timeout_ms = static_cast<int>(std::clamp<TimeUs>((wake - now + 999) / 1000, 0, 100));
     }
+    fds_.remove_if([](const Fd& f) { return f.fd < 0; });
     pfds.clear();
+    owners.clear();
     pfds.push_back(pollfd{lcm_->getFileno(), POLLIN, 0});
-    for (const auto& f : fds_) pfds.push_back(pollfd{f.fd, POLLIN, 0});
+    for (auto& f : fds_) {
+      pfds.push_back(pollfd{f.fd, POLLIN, 0});
+      owners.push_back(&f);
+    }
     const int r = poll(pfds.data(), pfds.size(), timeout_ms);
     if (r < 0) {
       if (errno == EINTR) continue;
-      break;
+      std::fprintf(stderr, "live executor: poll failed: %s; shutting down\n", std::strerror(errno));
+      return finish(kExitFault);
     }
     if (r == 0) continue;
     if (pfds[0].revents & POLLIN) lcm_->handle();
     for (std::size_t i = 1; i < pfds.size(); ++i) {
-      if (pfds[i].revents & (POLLIN | POLLHUP | POLLERR)) {
-        const int fd = pfds[i].fd;
-        auto it = std::find_if(fds_.begin(), fds_.end(), [fd](const Fd& f) { return f.fd == fd; });
-        if (it != fds_.end()) {
-          auto cb = it->cb;  // the callback may remove its own fd
-          cb(wall_time_us());
-        }
+      if (!(pfds[i].revents & (POLLIN | POLLHUP | POLLERR))) continue;
+      Fd& f = *owners[i - 1];
+      if (f.fd < 0) continue;  // removed by an earlier callback in this round
+      try {
+        f.cb(wall_time_us());
+        fd_failures = 0;
+      } catch (const std::exception& e) {
+        for (Node* n : nodes_) n->record_fault("exception.fd", e.what());
+        ++fd_failures;
+      } catch (...) {
+        for (Node* n : nodes_) n->record_fault("exception.fd", "unknown exception");
+        ++fd_failures;
+      }
+      if (fd_failures >= kMaxConsecutiveFailures) {
+        std::fprintf(stderr,
+                     "live executor: an fd callback threw %d times in a row; shutting down\n",
+                     fd_failures);
+        return finish(kExitFault);
       }
     }
   }
-  const TimeUs now = wall_time_us();
-  for (Node* n : nodes_) n->shutdown(now);
-  return 0;
+  return finish(0);
 }
 
 }  // namespace tiller

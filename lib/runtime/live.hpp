@@ -1,11 +1,22 @@
 // Live executor: runs nodes under LCM on wall-clock time (the only place in lib/ that reads a
 // clock). Ticks follow each node's grid on CLOCK_REALTIME (us since the epoch, the time base
-// lcm-logger stamps events with); messages are delivered as they arrive with the receive time.
-// SIGINT/SIGTERM (from construction on) end run() cleanly: every node's shutdown() runs
-// (ESCs to neutral) first.
+// lcm-logger stamps events with): a tick runs once the clock has reached its grid point and is
+// told the grid time (node.hpp); skipped grid points are counted in "ticks.missed". Messages
+// are delivered as they arrive, told their receive time. Receiving allocates nothing: channels
+// are subscribed through LCM's C API, and the channel name reaches Node::deliver as a view.
+//
+// Every way out of run() calls every node's shutdown() (ESCs to neutral) first:
+//   * SIGINT/SIGTERM (from construction on) or stop(): returns 0;
+//   * an exception from a message handler: dropped, counted ("exception.message"), FAULT,
+//     and the loop keeps running (a message never throws the process out of its loop);
+//   * an exception from on_tick or an fd callback: counted ("exception.tick" /
+//     "exception.fd"), FAULT; after kMaxConsecutiveFailures in a row from one node's tick (or
+//     from fd callbacks) run() prints the reason and returns kExitFault (3);
+//   * poll() failing other than EINTR: prints the reason and returns kExitFault.
 #pragma once
 
 #include <functional>
+#include <list>
 #include <memory>
 #include <string>
 #include <vector>
@@ -14,8 +25,9 @@
 
 namespace lcm {
 class LCM;
-class ReceiveBuffer;
 }  // namespace lcm
+struct _lcm_recv_buf_t;
+typedef struct _lcm_recv_buf_t lcm_recv_buf_t;
 
 namespace tiller {
 
@@ -27,6 +39,9 @@ std::string with_default_ttl(const std::string& url);
 
 class LiveExecutor {
  public:
+  static constexpr int kExitFault = 3;
+  static constexpr int kMaxConsecutiveFailures = 3;
+
   // Opens LCM at `url`; throws std::runtime_error with a clear message if it cannot.
   explicit LiveExecutor(const std::string& url);
   ~LiveExecutor();
@@ -36,7 +51,7 @@ class LiveExecutor {
   void add_fd(int fd, std::function<void(TimeUs)> on_readable);
   void remove_fd(int fd);
 
-  // Runs until SIGINT/SIGTERM or stop(); returns 0.
+  // Runs until SIGINT/SIGTERM or stop() (returns 0) or a fault (returns kExitFault); see above.
   int run();
   void stop();
   // Publishes raw bytes (for tools that are not nodes).
@@ -48,15 +63,16 @@ class LiveExecutor {
     int fd;
     std::function<void(TimeUs)> cb;
   };
-  static void on_message(const lcm::ReceiveBuffer* rbuf, const std::string& channel,
-                         LiveExecutor* self);
+  static void on_message(const lcm_recv_buf_t* rbuf, const char* channel, void* self);
+  int finish(int status);
 
   std::unique_ptr<lcm::LCM> lcm_;
   std::unique_ptr<LcmBus> bus_;
   std::vector<Node*> nodes_;
   std::vector<TimeUs> next_tick_;
+  std::vector<int> tick_failures_;  // consecutive failed ticks per node
   std::vector<std::string> subscribed_;
-  std::vector<Fd> fds_;
+  std::list<Fd> fds_;  // a list: callbacks may add or remove fds while one runs
   bool stop_ = false;
 };
 

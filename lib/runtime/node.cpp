@@ -2,6 +2,7 @@
 
 #include <algorithm>
 #include <cctype>
+#include <exception>
 
 #include "runtime/channels.hpp"
 
@@ -17,38 +18,132 @@ Node::Node(std::string name, TimeUs tick_period_us)
   heartbeat_.process = name_;
   heartbeat_.state = heartbeat_t::STATE_OK;
   heartbeat_.status = "starting";
+  adverts_.push_back(Advert{heartbeat_channel_, heartbeat_t::getTypeName()});
 }
 
 Node::~Node() = default;
 
 std::vector<std::string> Node::subscribed_channels() const {
   std::vector<std::string> out;
-  for (const auto& kv : subs_) out.push_back(kv.first);
+  for (const auto& sub : subs_) out.push_back(sub->channel);
   std::sort(out.begin(), out.end());
   return out;
 }
 
-void Node::deliver(const std::string& channel, const void* data, int size, TimeUs now) {
-  auto it = subs_.find(channel);
-  if (it == subs_.end()) return;
+std::vector<std::string> Node::published_channels() const {
+  std::vector<std::string> out;
+  for (const auto& a : adverts_) out.push_back(a.channel);
+  std::sort(out.begin(), out.end());
+  return out;
+}
+
+std::string Node::subscribed_type(std::string_view channel) const {
+  const SubscriptionBase* s = find_sub(channel);
+  return s ? s->type : "";
+}
+
+std::string Node::published_type(std::string_view channel) const {
+  for (const auto& a : adverts_)
+    if (a.channel == channel) return a.type;
+  return "";
+}
+
+bool Node::advertises(std::string_view channel) const {
+  for (const auto& a : adverts_)
+    if (a.channel == channel) return true;
+  return false;
+}
+
+Node::SubscriptionBase* Node::find_sub(std::string_view channel) const {
+  for (const auto& s : subs_)
+    if (s->channel == channel) return s.get();
+  return nullptr;
+}
+
+void Node::add_sub(const std::string& channel, const char* type,
+                   std::unique_ptr<SubscriptionBase> s) {
+  s->channel = channel;
+  s->type = type;
+  s->malformed = &counter("malformed." + channel);
+  for (auto& old : subs_) {
+    if (old->channel == channel) {
+      old = std::move(s);  // a second subscribe() to one channel replaces the first
+      return;
+    }
+  }
+  subs_.push_back(std::move(s));
+}
+
+void Node::advertise_type(const std::string& channel, const char* type) {
+  for (auto& a : adverts_) {
+    if (a.channel == channel) {
+      a.type = type;
+      return;
+    }
+  }
+  adverts_.push_back(Advert{channel, type});
+}
+
+void Node::deliver(std::string_view channel, const void* data, int size, TimeUs now) {
+  SubscriptionBase* sub = find_sub(channel);
+  if (!sub) return;
   ++received_;
   bool ok = false;
   try {
-    ok = it->second->dispatch(data, size, now);
-  } catch (...) {
+    ok = sub->dispatch(data, size, now);
+  } catch (const std::exception& e) {
     // Generated decoders do not throw, and handlers must not; if one does, the message is
     // dropped and counted rather than taking the process down.
-    ok = false;
+    if (!exception_message_) exception_message_ = &counter("exception.message");
+    reject(*exception_message_);
+    latch_fault(e.what());
+    return;
+  } catch (...) {
+    if (!exception_message_) exception_message_ = &counter("exception.message");
+    reject(*exception_message_);
+    latch_fault("unknown exception");
+    return;
   }
-  if (!ok) reject(*it->second->malformed);
+  if (!ok) reject(*sub->malformed);
 }
 
-void Node::tick(TimeUs now) {
-  on_tick(now);
+void Node::latch_fault(std::string_view what) {
+  faulted_ = true;
+  fault_status_ = "FAULT: exception: ";
+  fault_status_ += what;
+}
+
+void Node::record_fault(const std::string& counter_name, const std::string& what) {
+  ++counter(counter_name);
+  latch_fault(what);
+}
+
+void Node::count_missed_ticks(std::int64_t n) {
+  if (n <= 0) return;
+  if (!ticks_missed_) ticks_missed_ = &counter("ticks.missed");
+  *ticks_missed_ += n;
+}
+
+bool Node::tick(TimeUs now) {
+  bool ok = true;
+  try {
+    on_tick(now);
+  } catch (const std::exception& e) {
+    ok = false;
+    latch_fault(e.what());
+  } catch (...) {
+    ok = false;
+    latch_fault("unknown exception");
+  }
+  if (!ok) {
+    if (!exception_tick_) exception_tick_ = &counter("exception.tick");
+    ++*exception_tick_;
+  }
   if (now >= next_heartbeat_) {
     publish_heartbeat(now);
     next_heartbeat_ = (now / kUsPerSecond + 1) * kUsPerSecond;
   }
+  return ok;
 }
 
 TimeUs Node::next_tick_at_or_after(TimeUs t) const {
@@ -73,12 +168,27 @@ void Node::set_health(std::int8_t state, const std::string& status) {
 }
 
 void Node::publish_bytes(std::string_view channel, const std::uint8_t* data, int size) {
+  if (!advertises(channel)) {
+    std::int64_t* c = nullptr;
+    for (auto& u : unadvertised_)
+      if (u.first == channel) c = u.second;
+    if (!c) {
+      const std::string name(channel);
+      c = &counter("unadvertised." + name);
+      unadvertised_.emplace_back(name, c);
+    }
+    ++*c;
+  }
   ++published_;
   if (bus_) bus_->publish(channel, data, size);
 }
 
 void Node::publish_heartbeat(TimeUs now) {
   heartbeat_.utime = now;
+  if (faulted_) {
+    heartbeat_.state = heartbeat_t::STATE_FAULT;  // latched: a node that threw stays suspect
+    if (heartbeat_.status != fault_status_) heartbeat_.status = fault_status_;
+  }
   heartbeat_.received = received_;
   heartbeat_.rejected = rejected_;
   heartbeat_.stale = stale_;

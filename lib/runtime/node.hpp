@@ -1,16 +1,30 @@
 // The node: a process's logic as a class whose outputs depend only on the messages it was
 // given and the time it was told (architecture.md, "one rule").
 //
-// A node declares its subscriptions (typed LCM messages) and a tick period. An executor
-// delivers encoded messages with deliver(channel, bytes, now) and calls tick(now) on the
-// node's tick grid (every multiple of the period). The node publishes through publish(); the
-// executor decides where the bytes go (LCM, an in-process queue, a replay collector).
+// A node declares, in its constructor, what it subscribes to (subscribe<Msg>(channel, handler))
+// and what it publishes (advertise<Msg>(channel)), and a tick period. An executor delivers
+// encoded messages with deliver(channel, bytes, now) and calls tick(t) on the node's tick grid.
+// The node publishes through publish(); the executor decides where the bytes go (LCM, an
+// in-process queue, a replay collector).
 // Rules every executor follows, so that live, lockstep and replay runs agree:
-//   * ticks happen at times t = k * period (k integer);
-//   * at one instant, due ticks run before messages stamped with that instant are delivered.
-// The base class decodes, counts malformed packets, and publishes a heartbeat at 1 Hz on
-// TILLER_HEARTBEAT_<NAME> with the counters (received, rejected, stale, published, and named
-// per-reason counters). Handlers must not throw; bad input is rejected with reject(counter).
+//   * the time a tick is told is always a grid point t = k * period (k integer), in every
+//     executor. The live executor runs a tick when the wall clock has reached its grid point
+//     and tells it the grid time, not the wall time; when it falls behind by more than one
+//     period it runs only the latest due grid point and counts the skipped ones in
+//     "ticks.missed" (so the schedule of told times stays on the grid, and a late loop shows
+//     in the heartbeat instead of as a burst of catch-up ticks);
+//   * at one instant, due ticks run before messages stamped with that instant are delivered;
+//   * a message is told its receive time (live), its queue instant (lockstep) or its recorded
+//     time (replay).
+// The base class decodes, counts malformed packets, and publishes a heartbeat on
+// TILLER_HEARTBEAT_<NAME> at the first tick at or after each whole second of the node's time,
+// with the counters (received, rejected, stale, published, and named per-reason counters).
+// Error policy: handlers and on_tick must not throw; bad input is rejected with
+// reject(counter). If one throws anyway, the base class catches it, counts it
+// ("exception.message" / "exception.tick"), latches the heartbeat to STATE_FAULT and carries on;
+// the live executor stops the process (every node's shutdown(), exit status 3) after repeated
+// tick failures. Publishing on a channel that was not advertised still publishes but counts
+// "unadvertised.<channel>".
 #pragma once
 
 #include <cstdint>
@@ -18,7 +32,7 @@
 #include <memory>
 #include <string>
 #include <string_view>
-#include <unordered_map>
+#include <utility>
 #include <vector>
 
 #include <tiller/heartbeat_t.hpp>
@@ -47,12 +61,31 @@ class Node {
 
   // ---- executor side
   void attach(Bus* bus) { bus_ = bus; }
+  // Declared channels, sorted (the heartbeat channel is always among the published ones).
   std::vector<std::string> subscribed_channels() const;
-  bool subscribes_to(const std::string& channel) const { return subs_.count(channel) != 0; }
-  // Decodes and dispatches one message. Never throws; a bad packet is counted.
-  void deliver(const std::string& channel, const void* data, int size, TimeUs now);
-  // Runs on_tick(now), then the heartbeat if one is due.
-  void tick(TimeUs now);
+  std::vector<std::string> published_channels() const;
+  // LCM type name of a declared channel's messages ("" if the channel is not declared).
+  std::string subscribed_type(std::string_view channel) const;
+  std::string published_type(std::string_view channel) const;
+  bool subscribes_to(std::string_view channel) const { return find_sub(channel) != nullptr; }
+  bool advertises(std::string_view channel) const;
+  // Decodes and dispatches one message. Never throws; a bad packet is counted. Looks the channel
+  // up without building a string (no allocation).
+  void deliver(std::string_view channel, const void* data, int size, TimeUs now);
+  // Runs on_tick(now), then the heartbeat if one is due. Never throws: an exception from
+  // on_tick is counted ("exception.tick") and latches FAULT; returns false if it threw.
+  bool tick(TimeUs now);
+  // Executor side: `n` grid points were skipped (counted in "ticks.missed").
+  void count_missed_ticks(std::int64_t n);
+  // Executor side: an exception outside the node's own handlers that concerns it (an fd
+  // callback): counted under `counter_name` and latches FAULT with `what` as the status.
+  void record_fault(const std::string& counter_name, const std::string& what);
+  // True once any exception was caught for this node (its heartbeat says STATE_FAULT).
+  bool faulted() const { return faulted_; }
+  const std::string& fault_status() const { return fault_status_; }
+  // Executor side: publishes a heartbeat now, whether or not one is due (the live executor's
+  // last word before it stops a faulted process).
+  void publish_heartbeat_now(TimeUs now) { publish_heartbeat(now); }
   // First tick time at or after t on this node's grid.
   TimeUs next_tick_at_or_after(TimeUs t) const;
   // Called once by the live executor on SIGINT/SIGTERM before exit (e.g. ESCs to neutral).
@@ -73,6 +106,12 @@ class Node {
   // so steady-state delivery does not allocate).
   template <class Msg, class Derived>
   void subscribe(const std::string& channel, void (Derived::*handler)(const Msg&, TimeUs));
+
+  // Declares that this node publishes Msg on `channel` (call in the constructor).
+  template <class Msg>
+  void advertise(const std::string& channel) {
+    advertise_type(channel, Msg::getTypeName());
+  }
 
   // Encodes and publishes a message (the encode buffer is reused; no allocation).
   template <class Msg>
@@ -96,7 +135,13 @@ class Node {
   struct SubscriptionBase {
     virtual ~SubscriptionBase() = default;
     virtual bool dispatch(const void* data, int size, TimeUs now) = 0;  // false: decode failed
+    std::string channel;
+    const char* type = "";
     std::int64_t* malformed = nullptr;
+  };
+  struct Advert {
+    std::string channel;
+    std::string type;
   };
   template <class Msg, class Derived>
   struct Subscription : SubscriptionBase {
@@ -110,15 +155,28 @@ class Node {
     }
   };
 
+  SubscriptionBase* find_sub(std::string_view channel) const;
+  void add_sub(const std::string& channel, const char* type, std::unique_ptr<SubscriptionBase> s);
+  void advertise_type(const std::string& channel, const char* type);
   void publish_bytes(std::string_view channel, const std::uint8_t* data, int size);
   void publish_heartbeat(TimeUs now);
+  void latch_fault(std::string_view what);
 
   std::string name_;
   TimeUs tick_period_;
   std::string heartbeat_channel_;
   Bus* bus_ = nullptr;
-  std::unordered_map<std::string, std::unique_ptr<SubscriptionBase>> subs_;
+  // A node has a handful of channels: linear search over string_views beats hashing and needs
+  // no temporary std::string.
+  std::vector<std::unique_ptr<SubscriptionBase>> subs_;
+  std::vector<Advert> adverts_;
+  std::vector<std::pair<std::string, std::int64_t*>> unadvertised_;
   std::map<std::string, std::int64_t> counters_;
+  std::int64_t* exception_message_ = nullptr;
+  std::int64_t* exception_tick_ = nullptr;
+  std::int64_t* ticks_missed_ = nullptr;
+  bool faulted_ = false;
+  std::string fault_status_;
   std::vector<std::uint8_t> encode_buf_;
   std::int64_t received_ = 0, rejected_ = 0, stale_ = 0, published_ = 0;
   TimeUs next_heartbeat_ = INT64_MIN;
@@ -130,8 +188,7 @@ void Node::subscribe(const std::string& channel, void (Derived::*handler)(const 
   auto s = std::make_unique<Subscription<Msg, Derived>>();
   s->self = static_cast<Derived*>(this);
   s->handler = handler;
-  s->malformed = &counter("malformed." + channel);
-  subs_[channel] = std::move(s);
+  add_sub(channel, Msg::getTypeName(), std::move(s));
 }
 
 template <class Msg>
