@@ -8,7 +8,7 @@
 namespace tiller::esc {
 
 DryRunTransport::DryRunTransport(std::FILE* out, bool every_cycle)
-    : out_(out ? out : stdout), every_cycle_(every_cycle) {
+    : out_(out ? out : stdout), every_cycle_(every_cycle), last_(128 * 256) {
   for (auto& l : last_) l[0] = 0xFF;  // length byte 0xFF: nothing written yet
 }
 
@@ -24,21 +24,11 @@ void DryRunTransport::add_pca9685(std::uint8_t addr) {
 
 bool DryRunTransport::changed(std::uint8_t addr, const std::uint8_t* d, std::size_t n) {
   if (every_cycle_ || n == 0 || n > 8) return true;
-  // A small table: slot per address and per register (up to 4 registers per address).
-  const std::size_t base = static_cast<std::size_t>(addr & 0x7F) * 4;
-  std::size_t slot = base;
-  for (std::size_t k = 0; k < 4; ++k) {
-    if (last_[base + k][0] == 0xFF || last_reg_[base + k] == d[0]) {
-      slot = base + k;
-      break;
-    }
-    if (k == 3) return true;  // table full for this address: print
-  }
-  auto& l = last_[slot];
+  // One slot per (address, register = first byte written).
+  auto& l = last_[static_cast<std::size_t>(addr & 0x7F) * 256 + d[0]];
   const bool same = l[0] == n && std::memcmp(&l[1], d, n) == 0;
   l[0] = static_cast<std::uint8_t>(n);
   std::memcpy(&l[1], d, n);
-  last_reg_[slot] = d[0];
   return !same;
 }
 

@@ -41,9 +41,9 @@ class DryRunTransport : public I2cTransport {
   TimeUs now_ = 0;
   fake::FakeI2cBus bus_{"dry-run"};
   std::vector<std::unique_ptr<fake::Device>> devices_;
-  // Last bytes written per (address, first byte = register), 8 bytes each.
-  std::array<std::array<std::uint8_t, 9>, 128 * 4> last_{};
-  std::array<std::uint8_t, 128 * 4> last_reg_{};
+  // Last bytes written per (7-bit address, first byte = register): [length, up to 8 bytes].
+  // Allocated once at construction (128 x 256 slots).
+  std::vector<std::array<std::uint8_t, 9>> last_;
 };
 
 }  // namespace tiller::esc

@@ -273,6 +273,8 @@ void TeleopNode::publish_mode(TimeUs now) {
   m.is_translation = translation_;
   m.source = "teleop";
   publish(channels::kMode, m);
+  mode_sent_ = true;
+  last_mode_sent_ = now;
 }
 
 void TeleopNode::on_tick(TimeUs now) {
@@ -287,6 +289,9 @@ void TeleopNode::on_tick(TimeUs now) {
   update_buttons(now);
   compute_demand();
   publish_outputs(now);
+  if (!mode_sent_ || (p_.mode_repeat > 0 && now - last_mode_sent_ >= p_.mode_repeat)) {
+    publish_mode(now);
+  }
 }
 
 void TeleopNode::update_health() {

@@ -8,7 +8,10 @@
 // Outputs, every period and at once when the stick moves (publish_on_change):
 //   TILLER_MANUAL_DEMAND   normalised [X Y Z K M N] FRD in [-1, 1] (see teleop_params.hpp)
 //   TILLER_MANUAL_VELOCITY body [u v w] m/s and yaw rate / heading / torque (seed 004)
-// and on (debounced) button presses TILLER_ARM_REQUEST and TILLER_MODE.
+// TILLER_ARM_REQUEST only on a (debounced) button press: an arm request is an event, never
+// repeated, so a timeout that disarmed the ESCs is not undone behind the pilot's back.
+// TILLER_MODE on the first tick (initial_mode), on a button press, and again every
+// mode_repeat_hz (default 1 Hz) so a controller started later learns the pilot's mode.
 // Safety: a state with connected=false gives a neutral, invalid demand published at once and
 // a DEGRADED "joystick absent" heartbeat. After (re)connection the output stays neutral and
 // invalid until every mapped axis has been seen inside its deadzone (no jump to a held
@@ -84,6 +87,8 @@ class TeleopNode : public Node {
   double gain_;
   std::int8_t mode_;
   bool translation_;
+  bool mode_sent_ = false;  // the first tick publishes the initial mode
+  TimeUs last_mode_sent_ = 0;
   // heading hold
   Freshness odom_fresh_;
   double heading_ = 0.0;

@@ -107,6 +107,8 @@ TeleopParams load_teleop(const config::Value& root) {
                    : m == "closed_loop" ? controller_mode_t::MANUAL_CLOSED_LOOP
                                         : controller_mode_t::WAYPOINTING;
   p.initial_translation = root.boolean_or("initial_translation", false);
+  const double repeat_hz = root.number_or("mode_repeat_hz", 1.0, {0.0, 100.0});
+  p.mode_repeat = repeat_hz > 0 ? from_hz(repeat_hz) : 0;
   root.check_all_used();
   return p;
 }

@@ -69,6 +69,10 @@ struct TeleopParams {
   TimeUs odometry_timeout = 500'000;
   std::int8_t initial_mode = 0;  // controller_mode_t constant
   bool initial_translation = false;
+  // TILLER_MODE is published on the first tick (the initial mode), on every change, and repeated
+  // every mode_repeat (0: never repeated), so a controller started after the teleop learns the
+  // pilot's mode. While a teleop runs, the pilot's mode is the mode.
+  TimeUs mode_repeat = 1'000'000;
 };
 
 // Reads the `teleop:` document root. Throws config::Error naming file, key and expectation.

@@ -70,8 +70,9 @@ TEST(DryRun, Seed000PrintsTheI2cBytesOncePerChange) {
   const std::string s = read_all(r.out);
   // Start: neutral once per ESC (then unchanged for 11 cycles: not printed again).
   EXPECT_EQ(count(s, "0x29 write 00 00 00"), 2u) << s;  // start, shutdown
-  EXPECT_NE(s.find("dry-run 0.110000 s 0x29 write 00 40 00"), std::string::npos) << s;
-  EXPECT_NE(s.find("dry-run 0.110000 s 0x2a write 00 80 01"), std::string::npos) << s;
+  // The command goes on the bus at the instant it arrives (armed, write_on_command).
+  EXPECT_NE(s.find("dry-run 0.100000 s 0x29 write 00 40 00"), std::string::npos) << s;
+  EXPECT_NE(s.find("dry-run 0.100000 s 0x2a write 00 80 01"), std::string::npos) << s;
   EXPECT_EQ(count(s, "0x29 write 00 40 00"), 1u) << s;
   EXPECT_NE(s.find("dry-run 0.205000 s 0x2a write 00 00 00"), std::string::npos) << s;
   EXPECT_EQ(r.node->last_output().backend, "dry_run");
@@ -101,6 +102,23 @@ TEST(DryRun, Seed001PrintsThePca9685StartUp) {
   EXPECT_LT(a, b);
   EXPECT_LT(b, c);
   EXPECT_LT(c, d);
+}
+
+TEST(DryRun, Pca9685SteadyCommandsPrintNothingMore) {
+  // "changes" mode keeps one slot per (address, register): after start-up and one write of each
+  // channel, 10 cycles of unchanged neutral print nothing, and one changed channel prints one
+  // line (every PCA9685 channel has its own LEDn register, six channels on one address).
+  DryRig r(preset("seed001_dry_run.yaml"));
+  r.node->tick(0);
+  r.node->tick(10'000);
+  const std::size_t after_start = read_all(r.out).size();
+  for (int k = 2; k < 12; ++k) r.node->tick(k * 10'000);
+  EXPECT_EQ(read_all(r.out).size(), after_start) << read_all(r.out).substr(after_start);
+  r.arm(115'000);
+  r.command({"F", "LF", "RF", "B", "LB", "RB"}, {0.5, 0, 0, 0, 0, 0}, 116'000);
+  r.node->tick(120'000);
+  const std::string more = read_all(r.out).substr(after_start);
+  EXPECT_EQ(count(more, "0x40 write"), 1u) << more;
 }
 
 TEST(DryRun, UnpluggedRehearsesAMissingEsc) {

@@ -75,8 +75,9 @@ TEST(Mapping, Seed000StickForwardIsSurgeRightIsSway) {
   // Full forward: raw Y = -32767 -> +X (seed 000: jy = -axis1), nothing else.
   EXPECT_DOUBLE_EQ(at(1100).demand[0], 1.0);
   EXPECT_EQ(at(1100).demand[1], 0.0);
-  // Half forward: x = 16384/32767, d = 0.08, expo 0.3 -> 0.348123 (hand computed).
-  EXPECT_NEAR(at(1200).demand[0], 0.3481233, 1e-6);
+  // Half forward: seed 000 says half stick gives half throttle, so the preset is linear (expo 0);
+  // x = 16384/32767, deadzone 0.05 rescaled: (x - 0.05) / 0.95 = 0.4737003 (hand computed).
+  EXPECT_NEAR(at(1200).demand[0], 0.4737003, 1e-6);
   // Full right -> +Y only.
   EXPECT_EQ(at(1300).demand[0], 0.0);
   EXPECT_DOUBLE_EQ(at(1300).demand[1], 1.0);
@@ -276,8 +277,13 @@ TEST(Buttons, GainStepsModesAndTranslation) {
   press(9, 700);   // closed-loop manual
   press(11, 800);  // is_translation on
   press(10, 900);  // autonomous
-  const auto modes = r.all<controller_mode_t>(channels::kMode);
-  ASSERT_EQ(modes.size(), 3u);
+  auto modes = r.all<controller_mode_t>(channels::kMode);
+  // The initial mode on the first tick, then one message per press (the 1 Hz repeat is not due
+  // before 1 s).
+  ASSERT_EQ(modes.size(), 4u);
+  EXPECT_EQ(modes[0].first, 0);
+  EXPECT_EQ(modes[0].second.mode, controller_mode_t::MANUAL_OPEN_LOOP);
+  modes.erase(modes.begin());
   EXPECT_EQ(modes[0].second.mode, controller_mode_t::MANUAL_CLOSED_LOOP);
   EXPECT_FALSE(modes[0].second.is_translation);
   EXPECT_EQ(modes[1].second.mode, controller_mode_t::MANUAL_CLOSED_LOOP);
@@ -285,6 +291,41 @@ TEST(Buttons, GainStepsModesAndTranslation) {
   EXPECT_EQ(modes[2].second.mode, controller_mode_t::WAYPOINTING);
   EXPECT_TRUE(modes[2].second.is_translation);
   EXPECT_TRUE(r.all<arm_request_t>(channels::kArmRequest).empty());
+}
+
+TEST(Buttons, ModeIsPublishedAtStartAndRepeatedButArmIsNot) {
+  // With no button pressed: the initial mode (config) goes out on the first tick and then every
+  // mode_repeat (1 Hz), so a velocity PID started after the teleop learns the pilot's mode. An
+  // arm request is never repeated (an ESC timeout disarm must not be undone by itself).
+  TeleopParams p = load_teleop_file(config_path("extreme3dpro_seed000.yaml"));
+  p.initial_mode = controller_mode_t::MANUAL_CLOSED_LOOP;
+  p.debounce = 0;
+  Rig r(p);
+  auto& s = r.state;
+  s.n_axes = 6;
+  s.axes = {0, 0, 0, 0, 0, 0};
+  s.n_buttons = 12;
+  s.buttons.assign(12, false);
+  s.connected = true;
+  r.feed(ms(0));
+  s.buttons[6] = true;  // arm (base label 7)
+  r.feed(ms(100));
+  s.buttons[6] = false;
+  r.feed(ms(150));
+  r.run_until(ms(3500));
+  const auto modes = r.all<controller_mode_t>(channels::kMode);
+  ASSERT_EQ(modes.size(), 4u);  // 0, 1, 2, 3 s
+  for (std::size_t k = 0; k < modes.size(); ++k) {
+    EXPECT_EQ(modes[k].first, ms(1000.0 * static_cast<double>(k)));
+    EXPECT_EQ(modes[k].second.mode, controller_mode_t::MANUAL_CLOSED_LOOP);
+    EXPECT_EQ(modes[k].second.source, "teleop");
+  }
+  EXPECT_EQ(r.all<arm_request_t>(channels::kArmRequest).size(), 1u);
+
+  p.mode_repeat = 0;  // mode_repeat_hz: 0 -> the initial mode once, then only on change
+  Rig once(p);
+  once.run_until(ms(3500));
+  EXPECT_EQ(once.all<controller_mode_t>(channels::kMode).size(), 1u);
 }
 
 TEST(ClosedLoop, VelocityScaledAndHeadingHeld) {
