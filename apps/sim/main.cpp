@@ -1,8 +1,17 @@
 // tiller-sim: the simulated vehicle, the default vehicle when no hardware is attached.
 // Subscribes TILLER_ESC_OUTPUT; publishes TILLER_ODOMETRY, TILLER_GROUND_TRUTH and
 // TILLER_SIM_STATE in real time. See lib/sim/sim_node.hpp and config/sim/sim.yaml.
+//
+// Flags override the config and are checked as strictly as it is: the whole string must be a
+// finite number (an integer for --seed) within the range load_sim_params accepts for the same
+// setting; otherwise the program exits 2 naming the flag, the expected range and the value.
+#include <cctype>
+#include <charconv>
+#include <cmath>
 #include <cstdio>
+#include <cstdlib>
 #include <filesystem>
+#include <stdexcept>
 #include <string>
 
 #include "core/angles.hpp"
@@ -19,47 +28,88 @@ std::string resolve(const std::string& p) {
   }
   return p;
 }
-double number(const tiller::app::Args& a, const std::string& name) {
-  try {
-    return std::stod(a.get(name));
-  } catch (const std::exception&) {
-    throw std::runtime_error("--" + name + ": expected a number, got '" + a.get(name) + "'");
-  }
+
+std::string fmt(double x) {
+  char b[32];
+  std::snprintf(b, sizeof b, "%g", x);
+  return b;
+}
+
+// The flag's value as a finite number in [lo, hi] (the same range as the config key).
+double number(const tiller::app::Args& a, const std::string& name, double lo, double hi,
+              const char* unit) {
+  const std::string& s = a.get(name);
+  const std::string expected =
+      "expected a finite number in [" + fmt(lo) + ", " + fmt(hi) + "] " + unit;
+  const char* begin = s.c_str();
+  char* end = nullptr;
+  const double x =
+      s.empty() || std::isspace(static_cast<unsigned char>(s[0])) ? NAN : std::strtod(begin, &end);
+  if (end != begin + s.size() || !std::isfinite(x) || x < lo || x > hi)
+    throw std::runtime_error("--" + name + ": " + expected + ", got '" + s + "'");
+  return x;
+}
+
+std::uint64_t seed(const tiller::app::Args& a) {
+  const std::string& s = a.get("seed");
+  std::int64_t v = -1;
+  const auto [p, ec] = std::from_chars(s.data(), s.data() + s.size(), v);
+  if (s.empty() || ec != std::errc() || p != s.data() + s.size() || v < 0)
+    throw std::runtime_error("--seed: expected an integer in [0, 9223372036854775807], got '" + s +
+                             "'");
+  return static_cast<std::uint64_t>(v);
 }
 }  // namespace
 
 int main(int argc, char** argv) {
   using namespace tiller;
-  const auto args = app::parse(
-      argc, argv,
-      {"tiller-sim",
-       "Simulated vehicle (Fossen model): ESC output in, odometry and ground truth out.",
-       "sim/sim.yaml",
-       {{"vehicle", "FILE", "vehicle file (overrides the config's vehicle:)", ""},
-        {"seed", "N", "seed of the current and the odometry noise", ""},
-        {"north", "M", "initial north position", ""},
-        {"east", "M", "initial east position", ""},
-        {"heading-deg", "DEG", "initial heading", ""},
-        {"current-speed", "M_S", "constant current speed (with --current-toward-deg)", ""},
-        {"current-toward-deg", "DEG", "direction the constant current flows towards (0 = north)",
-         ""}}});
+  const auto args =
+      app::parse(argc, argv,
+                 {"tiller-sim",
+                  "Simulated vehicle (Fossen model): ESC output in, odometry and ground truth out.",
+                  "sim/sim.yaml",
+                  {{"vehicle", "FILE", "vehicle file (overrides the config's vehicle:)", ""},
+                   {"seed", "N", "seed of the current and the odometry noise (integer >= 0)", ""},
+                   {"north", "M", "initial north position (-1e6..1e6)", ""},
+                   {"east", "M", "initial east position (-1e6..1e6)", ""},
+                   {"heading-deg", "DEG", "initial heading (-360..360)", ""},
+                   {"current-speed", "M_S",
+                    "constant current speed, 0..5 (towards north unless --current-toward-deg)", ""},
+                   {"current-toward-deg", "DEG",
+                    "direction the constant current flows towards (0 = north, -360..360); needs "
+                    "--current-speed",
+                    ""}}});
   return app::guarded_main("tiller-sim", [&] {
+    // Flags first: a bad one is refused before any file is read or LCM is opened.
+    const bool has_speed = !args.get("current-speed").empty();
+    const bool has_toward = !args.get("current-toward-deg").empty();
+    if (has_toward && !has_speed)
+      throw std::runtime_error(
+          "--current-toward-deg: expected together with --current-speed (the speed of the "
+          "constant current), got '" +
+          args.get("current-toward-deg") + "' alone");
+    const auto given = [&](const char* n) { return !args.get(n).empty(); };
+    const double north = given("north") ? number(args, "north", -1e6, 1e6, "m") : 0;
+    const double east = given("east") ? number(args, "east", -1e6, 1e6, "m") : 0;
+    const double heading = given("heading-deg") ? number(args, "heading-deg", -360, 360, "deg") : 0;
+    const double speed = has_speed ? number(args, "current-speed", 0, 5, "m/s") : 0;
+    const double toward = has_toward ? number(args, "current-toward-deg", -360, 360, "deg") : 0;
+    const std::uint64_t s = given("seed") ? seed(args) : 0;
+
     const std::string config_path = resolve(args.config);
     const auto root = config::Value::load_file(config_path);
     SimParams p = load_sim_params(root);
     root.check_all_used();
-    if (!args.get("vehicle").empty()) p.vehicle_file = resolve(args.get("vehicle"));
-    if (!args.get("seed").empty()) p.seed = static_cast<std::uint64_t>(number(args, "seed"));
-    if (!args.get("north").empty()) p.initial_eta[0] = number(args, "north");
-    if (!args.get("east").empty()) p.initial_eta[1] = number(args, "east");
-    if (!args.get("heading-deg").empty())
-      p.initial_eta[5] = wrap_pi(deg_to_rad(number(args, "heading-deg")));
-    if (!args.get("current-speed").empty()) {
+    if (given("vehicle")) p.vehicle_file = resolve(args.get("vehicle"));
+    if (given("seed")) p.seed = s;
+    if (given("north")) p.initial_eta[0] = north;
+    if (given("east")) p.initial_eta[1] = east;
+    if (given("heading-deg")) p.initial_eta[5] = wrap_pi(deg_to_rad(heading));
+    if (has_speed) {
       p.current.model = sim::CurrentParams::Model::kConstant;
-      p.current.speed_m_s = number(args, "current-speed");
-      p.current.speed_max_m_s = p.current.speed_m_s;
-      const bool toward = !args.get("current-toward-deg").empty();
-      p.current.toward_rad = toward ? wrap_pi(deg_to_rad(number(args, "current-toward-deg"))) : 0.0;
+      p.current.speed_m_s = speed;
+      p.current.speed_max_m_s = speed;
+      p.current.toward_rad = wrap_pi(deg_to_rad(toward));
     }
     SimNode node(p, load_sim_vehicle_file(p.vehicle_file));
     std::fprintf(stderr, "tiller-sim: %s (%s), %zu thrusters, step %.1f ms, odometry %.0f Hz\n",

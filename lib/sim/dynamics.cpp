@@ -3,6 +3,7 @@
 #include <cmath>
 
 #include "core/config.hpp"
+#include "vehicle/thrust_curve.hpp"
 
 namespace tiller::sim {
 
@@ -47,6 +48,17 @@ DynamicsParams load_dynamics(const config::Value& d) {
   p.thruster_time_constant_s = d.number("thruster_time_constant_s", {0.0, 10.0});
   p.water_density_kg_m3 = d.number_or("water_density_kg_m3", 1025.0, {900.0, 1100.0});
   p.gravity_m_s2 = d.number_or("gravity_m_s2", 9.81, {9.7, 9.9});
+  if (auto c = d.find("simulator_thrust_curve")) {
+    const std::string name = c->as_string();
+    std::string names;
+    bool known = false;
+    for (const auto& n : ThrustCurve::preset_names()) {
+      names += (names.empty() ? "" : ", ") + n;
+      known = known || n == name;
+    }
+    if (!known) c->fail("a thrust curve preset name (" + names + "), got '" + name + "'");
+    p.simulator_thrust_curve = name;
+  }
   const config::Range nonneg = config::Range::at_least(0.0);
 
   if (p.kind == ModelKind::kSurface3Dof) {

@@ -46,9 +46,9 @@ struct DynamicsParams {
   // rows and columns of u, v and r are meaningful (the others hold 1 on the diagonal).
   Matrix6 mass_matrix = Matrix6::Identity();
   // Mass matrix whose Coriolis-centripetal forces are modelled (Fossen Theorem 3.2 applied to
-  // it). Default: mass_matrix (rigid body and added mass). Fossen's otter.py neglects the
-  // added-mass (Munk) terms in yaw, which makes its C the rigid body's alone; the Otter's file
-  // says so with `coriolis_mass_matrix`.
+  // it). Default: mass_matrix (rigid body and added mass); a surface_3dof file may set
+  // `coriolis_mass_matrix` to model a different part. No shipped vehicle file sets it (the
+  // Otter's keeps the full M; README, section sim, says why and what otter.py does).
   Matrix6 coriolis_mass_matrix = Matrix6::Identity();
   // Damping: force_i = -(linear_i + quadratic_i |nu_r,i|) nu_r,i (both >= 0).
   Vector6 linear_damping = Vector6::Zero();
@@ -68,6 +68,11 @@ struct DynamicsParams {
   Vector3 center_of_buoyancy_m = Vector3::Zero();  // r_b
   // First-order lag of every thruster's thrust, seconds (0 = none).
   double thruster_time_constant_s = 0.1;
+  // Optional `simulator_thrust_curve`: a lib/vehicle preset name (t200_12v, t200_poly) that
+  // the simulator uses for every thruster instead of the thrusters' own `curve`. For a vehicle
+  // whose mixer keeps a simplified curve on purpose (seed 000's linear 30 N, so its a/b
+  // arithmetic is reproduced exactly) while the motors are T200s. Empty: the thrusters' curves.
+  std::string simulator_thrust_curve;
   // Wind (surface_3dof only; VRX's model): X = c0 uw|uw|, Y = c1 vw|vw|, N = -2 c2 uw vw, with
   // (uw, vw) the relative wind in the body frame (m/s). Zero: no wind force.
   Vector3 wind_coefficients = Vector3::Zero();

@@ -2,12 +2,23 @@
 
 #include <algorithm>
 #include <cmath>
+#include <stdexcept>
 
 #include "core/angles.hpp"
 
 namespace tiller::sim {
 
-CurrentModel::CurrentModel(const CurrentParams& p, std::uint64_t seed) : p_(p), rng_(seed) {}
+CurrentModel::CurrentModel(const CurrentParams& p, std::uint64_t seed) : p_(p), rng_(seed) {
+  const bool ok = std::isfinite(p.speed_m_s) && p.speed_m_s >= 0 && std::isfinite(p.toward_rad) &&
+                  std::isfinite(p.speed_max_m_s) && p.speed_max_m_s >= 0 &&
+                  std::isfinite(p.mu_per_s) && p.mu_per_s >= 0 && std::isfinite(p.speed_std_m_s) &&
+                  p.speed_std_m_s >= 0 && std::isfinite(p.direction_std_rad) &&
+                  p.direction_std_rad >= 0;
+  if (!ok) {
+    throw std::invalid_argument(
+        "CurrentModel: speeds, saturation, rate and deviations must be finite and >= 0");
+  }
+}
 
 void CurrentModel::step(double dt) {
   if (p_.model != CurrentParams::Model::kGaussMarkov || !(dt > 0)) return;

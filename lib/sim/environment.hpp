@@ -26,6 +26,8 @@ struct CurrentParams {
 
 class CurrentModel {
  public:
+  // Throws std::invalid_argument for a negative or non-finite speed, saturation, rate or
+  // deviation (speed() clamps to [0, speed_max_m_s], which needs speed_max_m_s >= 0).
   CurrentModel(const CurrentParams& p, std::uint64_t seed);
   // Advances the Gauss-Markov processes by dt seconds (no-op for none/constant).
   void step(double dt);

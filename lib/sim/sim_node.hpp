@@ -51,6 +51,9 @@ struct SimParams {
   std::uint64_t seed = 1;
   sim::CurrentParams current;
   bool wind_enabled = false;
+  // Where wind.enabled was set ("file:line: wind.enabled"), for the error a vehicle without a
+  // wind model gives (SimNode refuses wind on an underwater_6dof vehicle).
+  std::string wind_enabled_key = "wind.enabled";
   sim::WindParams wind;
   sim::OdometryNoiseParams noise;
 };
@@ -60,7 +63,8 @@ struct SimParams {
 SimParams load_sim_params(const config::Value& root);
 
 // A vehicle file read for the simulator: the thrusters (lib/vehicle) and the dynamics (lib/sim),
-// with every key of the file checked.
+// with every key of the file checked. With `dynamics.simulator_thrust_curve` every thruster of
+// this copy uses that curve (the motors' real one) instead of the file's `curve` (the mixer's).
 struct SimVehicle {
   Vehicle vehicle;
   sim::DynamicsParams dynamics;
@@ -69,6 +73,8 @@ SimVehicle load_sim_vehicle_file(const std::string& path);
 
 class SimNode : public Node {
  public:
+  // Throws std::invalid_argument for a non-finite initial state, and config::Error (naming
+  // wind.enabled) when the wind is enabled for a vehicle it cannot act on.
   SimNode(const SimParams& params, const SimVehicle& vehicle);
   // Loads the sim config file and the vehicle file it names.
   explicit SimNode(const std::string& config_path);

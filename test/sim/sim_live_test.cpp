@@ -176,5 +176,61 @@ TEST(SimLive, MissingVehicleFileExitsWithTheFileName) {
   EXPECT_NE(sim.stderr_text().find("no_such_boat.yaml"), std::string::npos) << sim.stderr_text();
 }
 
+// Every bad flag is refused before LCM is opened: exit 2, naming the flag, what was expected
+// (the config's range for the same setting) and the value given.
+TEST(SimLive, BadFlagsExitTwoNamingTheFlagTheRangeAndTheValue) {
+  struct Case {
+    std::vector<std::string> args;
+    std::string flag, expected, value;
+  };
+  const std::vector<Case> cases = {
+      {{"--north", "inf"}, "--north", "[-1e+06, 1e+06]", "'inf'"},
+      {{"--east", "-1e7"}, "--east", "[-1e+06, 1e+06]", "'-1e7'"},
+      {{"--north", "1x"}, "--north", "finite number", "'1x'"},
+      {{"--north", " 1"}, "--north", "finite number", "' 1'"},
+      {{"--heading-deg", "nan"}, "--heading-deg", "[-360, 360]", "'nan'"},
+      {{"--heading-deg", "400"}, "--heading-deg", "[-360, 360]", "'400'"},
+      {{"--current-speed", "-1"}, "--current-speed", "[0, 5]", "'-1'"},
+      {{"--current-speed", "9"}, "--current-speed", "[0, 5]", "'9'"},
+      {{"--current-speed", "0.3", "--current-toward-deg", "north"},
+       "--current-toward-deg",
+       "[-360, 360]",
+       "'north'"},
+      {{"--current-toward-deg", "30"}, "--current-toward-deg", "--current-speed", "'30'"},
+      {{"--seed", "-3"}, "--seed", "integer in [0,", "'-3'"},
+      {{"--seed", "1.5"}, "--seed", "integer in [0,", "'1.5'"},
+      {{"--seed", "99999999999999999999"}, "--seed", "integer in [0,", "'99999999999999999999'"},
+  };
+  for (const auto& c : cases) {
+    std::vector<std::string> args = c.args;
+    args.insert(args.end(), {"--vehicle", kSrc + "/config/vehicles/otter.yaml", "--lcm-url", kUrl});
+    Proc sim(args);
+    const int rc = sim.wait(5.0);
+    const std::string err = sim.stderr_text();
+    SCOPED_TRACE(c.args[0] + " " + c.args[1] + ": " + err);
+    EXPECT_EQ(rc, 2);
+    EXPECT_NE(err.find(c.flag + ":"), std::string::npos);
+    EXPECT_NE(err.find(c.expected), std::string::npos);
+    EXPECT_NE(err.find("got " + c.value), std::string::npos);
+    EXPECT_EQ(err.find("tiller-sim: otter"), std::string::npos);  // never started
+  }
+  // The good values of the same flags start it (and it stops cleanly on SIGTERM).
+  lcm::LCM lcm(kUrl);
+  ASSERT_TRUE(lcm.good());
+  Listener l;
+  lcm.subscribe(channels::kOdometry, &Listener::on_odom, &l);
+  Proc sim({"--vehicle", kSrc + "/config/vehicles/otter.yaml", "--lcm-url", kUrl, "--north",
+            "-12.5", "--east", "1e3", "--heading-deg", "-90", "--current-speed", "0.5",
+            "--current-toward-deg", "90", "--seed", "3"});
+  const auto end = std::chrono::steady_clock::now() + std::chrono::seconds(5);
+  while (l.odom.size() < 3 && std::chrono::steady_clock::now() < end) lcm.handleTimeout(10);
+  ASSERT_GE(l.odom.size(), 3u) << sim.stderr_text();
+  EXPECT_NEAR(l.odom.back().position[0], -12.5, 1e-6);
+  EXPECT_GT(l.odom.back().position[1], 1e3);  // drifting east with the current
+  EXPECT_NEAR(l.odom.back().orientation[2], -kPi / 2, 1e-6);
+  kill(sim.pid, SIGTERM);
+  EXPECT_EQ(sim.wait(5.0), 0);
+}
+
 }  // namespace
 }  // namespace tiller

@@ -122,6 +122,46 @@ TEST(SimNode, PulseWidthsDriveTheRovsVerticalThrustersThroughTheT200Curve) {
   EXPECT_NEAR(node.model().eta()[4], 0.0, 1e-6);  // F and B equal: no pitch
 }
 
+// Seed 000's motors are T200s: the simulator uses the T200 12 V data (simulator_thrust_curve)
+// while the mixer keeps the seed's linear 30 N (test/allocation reproduces its a/b arithmetic).
+TEST(SimNode, Seed000FullThrottleGivesTheT200Thrust) {
+  const auto p = params_for("seed000_rov4");
+  SimNode node(p, load_sim_vehicle_file(p.vehicle_file));
+  const Vehicle mixer_view = load_vehicle_file(p.vehicle_file);
+  EXPECT_EQ(mixer_view.thrusters[0].thrust_from_command(1.0), 30.0);  // the seed's assumption
+  node.on_esc_output(
+      esc_output(node.vehicle(), esc_output_t::UNIT_THROTTLE_INT16, {32767, -32767, 16384, 0}), 0);
+  // hardware.md: T200 at 12 V, 1900 us +3.71 kgf, 1100 us -2.90 kgf.
+  EXPECT_NEAR(node.commanded_thrust(0), 3.71 * 9.80665, 1e-9);
+  EXPECT_NEAR(node.commanded_thrust(1), -2.90 * 9.80665, 1e-9);
+  // Half throttle (1700 us): 1.28 kgf, about a third of full, not 15 N.
+  EXPECT_NEAR(node.commanded_thrust(2), node.vehicle().thrusters[2].curve.thrust(16384.0 / 32767.0),
+              1e-12);
+  EXPECT_NEAR(node.commanded_thrust(2), 1.28 * 9.80665, 0.01);
+  EXPECT_EQ(node.commanded_thrust(3), 0.0);
+  // And the thrust reaches it through the lag.
+  LockstepExecutor ex(0);
+  ex.add(node);
+  feed(ex,
+       esc_output(node.vehicle(), esc_output_t::UNIT_THROTTLE_INT16, {32767, 32767, 32767, 32767}),
+       0, 2 * kUsPerSecond);
+  ex.run_until(2 * kUsPerSecond);
+  for (int i = 0; i < 4; ++i) EXPECT_NEAR(node.model().thrust(i), 36.38, 0.01) << i;
+  // A file naming an unknown curve is refused with the key and the known names.
+  try {
+    const auto v = config::Value::parse(
+        "model: underwater_6dof\nthruster_time_constant_s: 0.1\nsimulator_thrust_curve: t300\n",
+        "bad.yaml");
+    (void)sim::load_dynamics(v);
+    FAIL() << "unknown curve accepted";
+  } catch (const config::Error& e) {
+    EXPECT_NE(std::string(e.what()).find("simulator_thrust_curve: expected a thrust curve preset "
+                                         "name (t200_12v, t200_poly), got 't300'"),
+              std::string::npos)
+        << e.what();
+  }
+}
+
 TEST(SimNode, PulseMappingFollowsTheConfiguredEndpoints) {
   auto p = params_for("seed001_rov6");
   p.pulse_min_us = 1000;
@@ -299,11 +339,69 @@ TEST(SimNode, ConfigFileLoadsAndBadConfigsNameTheKey) {
       "odometry_rate_hz");
   expect_error(base + "current: {model: constant, speed_m_s: 0.3, toward: 30}\n", "toward_deg");
   expect_error(base + "pulse_us: {min: 1600, neutral: 1500, max: 1900}\n", "pulse_us");
+  // vehicles.md: RK4 at <= 10 ms; a longer step is refused naming the key and the range.
+  expect_error(base + "step_s: 0.02\n", "step_s: expected a number in [0.0001, 0.01]");
+  // With model none the other keys are still checked: a typo, or a bad value, is refused.
+  expect_error(base + "current: {model: none, speed_m_s: 0.3, towards_deg: 30}\n", "towards_deg");
+  expect_error(base + "current: {model: none, speed_m_s: -1}\n", "speed_m_s");
+  expect_error(base + "current: {model: constant, speed_m_s: 0.3}\n", "toward_deg");
+  // The shipped file lists every key with model none; switching the model needs no other edit.
+  for (const char* m : {"constant", "gauss_markov"}) {
+    const auto v = config::Value::parse(base + "current: {model: " + m +
+                                            ", speed_m_s: 0.3, toward_deg: 30, mu_per_s: 0.01, "
+                                            "speed_std_m_s: 0.05, direction_std_deg: 10, "
+                                            "speed_max_m_s: 0.6}\n",
+                                        kSrc + "/config/sim/test.yaml");
+    const auto q = load_sim_params(v);
+    EXPECT_NO_THROW(v.check_all_used()) << m;
+    EXPECT_EQ(q.current.speed_m_s, 0.3);
+    EXPECT_EQ(q.current.speed_max_m_s, std::string(m) == "constant" ? 0.3 : 0.6);
+  }
   // Every vehicle file has a dynamics section the simulator accepts.
   for (const char* v : {"otter", "wamv", "seed000_rov4", "seed001_rov6", "seed004_usv_x",
                         "seed004_usv_x_table", "seed004_usv_h"}) {
     EXPECT_NO_THROW(load_sim_vehicle_file(kSrc + "/config/vehicles/" + v + ".yaml")) << v;
   }
+}
+
+TEST(SimNode, WindOnAnUnderwaterVehicleIsRefusedNamingTheKey) {
+  const std::string base =
+      "vehicle: ../vehicles/seed001_rov6.yaml\nodometry_rate_hz: 20\nground_truth_rate_hz: 20\n"
+      "sim_state_rate_hz: 20\nesc_timeout_s: 0.5\nwind: {enabled: true, speed_m_s: 5}\n";
+  const auto v = config::Value::parse(base, kSrc + "/config/sim/wind.yaml");
+  const auto p = load_sim_params(v);
+  v.check_all_used();
+  try {
+    SimNode node(p, load_sim_vehicle_file(p.vehicle_file));
+    FAIL() << "wind accepted on an underwater vehicle";
+  } catch (const config::Error& e) {
+    const std::string what = e.what();
+    EXPECT_NE(what.find("config/sim/wind.yaml:6: wind.enabled: expected false"), std::string::npos)
+        << what;
+    EXPECT_NE(what.find("underwater_6dof"), std::string::npos) << what;
+  }
+  // The same config on a surface vessel with wind coefficients runs; wind off runs anywhere.
+  auto q = p;
+  q.vehicle_file = kSrc + "/config/vehicles/wamv.yaml";
+  EXPECT_NO_THROW(SimNode(q, load_sim_vehicle_file(q.vehicle_file)));
+  q = p;
+  q.wind_enabled = false;
+  EXPECT_NO_THROW(SimNode(q, load_sim_vehicle_file(q.vehicle_file)));
+}
+
+TEST(SimNode, NonFiniteOrNegativeStartValuesAreRefused) {
+  auto p = params_for("otter");
+  const auto v = load_sim_vehicle_file(p.vehicle_file);
+  p.initial_eta[0] = INFINITY;
+  EXPECT_THROW(SimNode(p, v), std::invalid_argument);
+  p = params_for("otter");
+  p.initial_eta[5] = NAN;
+  EXPECT_THROW(SimNode(p, v), std::invalid_argument);
+  p = params_for("otter");
+  p.current.model = sim::CurrentParams::Model::kConstant;
+  p.current.speed_m_s = -1;  // a southward current in disguise, and clamp(x, 0, -1) is UB
+  p.current.speed_max_m_s = -1;
+  EXPECT_THROW(SimNode(p, v), std::invalid_argument);
 }
 
 // The whole chain in one process: manual demand -> MixerNode -> EscNode (sim backend) ->
