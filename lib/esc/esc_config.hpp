@@ -39,8 +39,8 @@ struct EscNodeParams {
   bool disarm_on_timeout = true;        // and disarm (the pilot must arm again)
   double arm_neutral_tolerance = 0.02;  // |command| <= this counts as neutral for arming
   MissingEscPolicy missing_esc = MissingEscPolicy::kRefuse;
-  // Write at once when a new command arrives (armed), not only on the next cycle: the stick ->
-  // ESC latency then does not wait up to one cycle. At most one extra write per
+  // Write at once when a changed command arrives (armed), not only on the next cycle: the
+  // stick -> ESC latency then does not wait up to one cycle. At most one extra write per
   // min_write_interval_us, so a burst of commands cannot flood the bus.
   bool write_on_command = true;
   TimeUs min_write_interval_us = 2'000;

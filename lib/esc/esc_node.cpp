@@ -150,15 +150,20 @@ void EscNode::on_command(const thruster_command_t& m, TimeUs now) {
       return;
     }
   }
+  bool changed = false;
   for (std::size_t k = 0; k < n; ++k) {
-    command_[static_cast<std::size_t>(cached_map_[k])] = std::clamp(m.command[k], -1.0, 1.0);
+    double& c = command_[static_cast<std::size_t>(cached_map_[k])];
+    const double v = std::clamp(m.command[k], -1.0, 1.0);
+    changed = changed || v != c;
+    c = v;
   }
   command_freshness_.mark(now);
   command_fresh_ = true;
-  // Out at once (armed only: disarmed, the cycle's neutral is all there is to send).
-  // The cycle's own writes do not count against the interval: a command that arrives just
-  // after a cycle still goes out at once.
-  if (p_.write_on_command && armed_ && started_ &&
+  // A changed command goes out at once (armed only: disarmed, the cycle's neutral is all there
+  // is to send). An unchanged one (the mixer's fixed-rate repeats) waits for the cycle, so it
+  // does not use up the interval. The cycle's own writes do not count against the interval
+  // either: a command that arrives just after a cycle still goes out at once.
+  if (p_.write_on_command && changed && armed_ && started_ &&
       (!have_extra_write_ || now - last_extra_write_ >= p_.min_write_interval_us)) {
     last_extra_write_ = now;
     have_extra_write_ = true;

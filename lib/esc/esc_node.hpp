@@ -13,7 +13,7 @@
 // Arming: an arm request arms only while the commands are neutral (|u| <= tolerance for every
 // thruster, or no fresh command); a disarm request always disarms. With disarm_on_timeout the
 // command timeout also disarms.
-// A new command while armed is also written at once (write_on_command, default on; at most
+// A changed command while armed is also written at once (write_on_command, default on; at most
 // one extra write per min_write_interval), so the stick -> ESC latency does not wait a cycle.
 // Outputs: TILLER_ESC_OUTPUT every cycle (what went on the bus, hardware units, and the same
 // value mapped back to normalised motor units), TILLER_ARM_STATE on change and at 10 Hz,

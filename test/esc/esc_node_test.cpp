@@ -104,7 +104,7 @@ TEST(EscNode, ReversedFlipsOnlyItsOwnSign) {
 }
 
 TEST(EscNode, ArmedCommandIsWrittenAtOnceAtMostOncePerInterval) {
-  // write_on_command: a new command while armed goes on the bus at the instant it arrives, not
+  // write_on_command: a changed command while armed goes on the bus at the instant it arrives, not
   // at the next 10 ms cycle, even just after a cycle's write; a burst is held to one extra write
   // per min_write_interval (2 ms);
   // disarmed, nothing extra is written (the cycle's neutral is all there is).
@@ -133,6 +133,10 @@ TEST(EscNode, ArmedCommandIsWrittenAtOnceAtMostOncePerInterval) {
   ASSERT_EQ(outs.size(), before + 2);
   EXPECT_EQ(outs.back().utime, 30'000);
   EXPECT_EQ(outs.back().value[0], std::lround(0.5 * 32767));
+  // The same command again (the mixer's fixed-rate repeat) is left to the cycle.
+  r.run_until(35'000);
+  r.command({0.5, 0.0, 0.0, 0.0});
+  EXPECT_EQ(r.cap.all<esc_output_t>(channels::kEscOutput).size(), before + 2);
 
   Rig off(sim_yaml("disarm_on_timeout: false\nwrite_on_command: false\n"));
   off.run_until(20'000);

@@ -27,7 +27,8 @@ struct Steady {
   esc::fake::FakeI2cBus bus;
   std::vector<std::unique_ptr<esc::fake::Device>> models;
   std::unique_ptr<EscNode> node;
-  Event command;
+  Event command, command_b;  // alternated, so every cycle's command is new
+  bool flip = false;
   TimeUs now = 0;
 
   // backend: "i2c_tgy", "pca9685" or "sim"; n: 4 or 8 ESCs.
@@ -65,6 +66,8 @@ struct Steady {
     c.names = names;
     for (int i = 0; i < n; ++i) c.command.push_back(0.1 * (i % 5) - 0.2);
     command = encode(channels::kThrusterCommand, 0, c);
+    c.command[0] += 0.05;  // a second command: the pilot's stick moves every cycle
+    command_b = encode(channels::kThrusterCommand, 0, c);
     arm_request_t a{};
     a.arm = true;
     a.source = "bench";
@@ -72,11 +75,12 @@ struct Steady {
     node->tick(0);
     node->deliver(channels::kArmRequest, arm.data.data(), static_cast<int>(arm.data.size()), 0);
   }
-  // One cycle: a fresh command arrives half a period after the last tick and is written at once
+  // One cycle: a changed command arrives half a period after the last tick and is written at once
   // (write_on_command), then the tick writes every ESC again and reads one ESC's telemetry.
   void cycle() {
     now += node->tick_period() / 2;
-    node->deliver(command.channel, command.data.data(), static_cast<int>(command.data.size()), now);
+    const Event& c = (flip = !flip) ? command : command_b;
+    node->deliver(c.channel, c.data.data(), static_cast<int>(c.data.size()), now);
     now += node->tick_period() - node->tick_period() / 2;
     node->tick(now);
   }
