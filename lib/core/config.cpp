@@ -4,6 +4,7 @@
 
 #include <cmath>
 #include <fstream>
+#include <map>
 #include <set>
 #include <sstream>
 
@@ -37,7 +38,62 @@ std::string join_path(const std::string& parent, std::string_view key) {
   return parent + "." + std::string(key);
 }
 
+// yaml-cpp keeps both entries of a key given twice in one map and reads the first: a silent
+// trap (the second value, usually the one being edited, is ignored). Refuse it.
+void check_duplicates(const std::string& file, const YAML::Node& n, const std::string& path) {
+  if (n.IsMap()) {
+    std::map<std::string, int> first_line;
+    for (const auto& kv : n) {
+      const std::string key = kv.first.IsScalar() ? kv.first.Scalar() : "?";
+      const int line = kv.first.Mark().is_null() ? 0 : kv.first.Mark().line + 1;
+      const std::string p = join_path(path, key);
+      auto [it, fresh] = first_line.emplace(key, line);
+      if (!fresh) {
+        throw Error(file + ":" + std::to_string(line) + ": " + p +
+                    ": duplicate key (first at line " + std::to_string(it->second) + ")");
+      }
+      check_duplicates(file, kv.second, p);
+    }
+  } else if (n.IsSequence()) {
+    for (std::size_t i = 0; i < n.size(); ++i)
+      check_duplicates(file, n[i], path + "[" + std::to_string(i) + "]");
+  }
+}
+
+std::string number_text(double v) {
+  std::ostringstream os;
+  os << v;
+  return os.str();
+}
+
 }  // namespace
+
+std::string Value::describe_range(Range r) {
+  constexpr double kMax = std::numeric_limits<double>::max();
+  const bool lo = r.min > -kMax, hi = r.max < kMax;
+  if (!lo && !hi) return "a number";
+  if (lo && hi) return "a number in [" + number_text(r.min) + ", " + number_text(r.max) + "]";
+  if (hi) return "a number <= " + number_text(r.max);
+  if (r.min == std::numeric_limits<double>::min()) return "a number > 0";
+  return "a number >= " + number_text(r.min);
+}
+
+std::string Value::describe_integer(std::int64_t min, std::int64_t max) {
+  const bool lo = min > std::numeric_limits<std::int64_t>::min();
+  const bool hi = max < std::numeric_limits<std::int64_t>::max();
+  if (!lo && !hi) return "an integer";
+  if (lo && hi) return "an integer in [" + std::to_string(min) + ", " + std::to_string(max) + "]";
+  if (hi) return "an integer <= " + std::to_string(max);
+  return "an integer >= " + std::to_string(min);
+}
+
+std::string Value::describe_numbers(std::size_t n, Range r) {
+  std::string d = describe_range(r);
+  d = d.substr(2);  // "number in [0, 1]"
+  return n ? "a sequence of " + std::to_string(n) + " numbers" +
+                 (d == "number" ? "" : " (each a " + d + ")")
+           : "a non-empty sequence of numbers" + (d == "number" ? "" : " (each a " + d + ")");
+}
 
 Value::Value(std::shared_ptr<Doc> doc, const YAML::Node& node, std::string path)
     : doc_(std::move(doc)), node_(std::make_unique<YAML::Node>(node)), path_(std::move(path)) {}
@@ -73,6 +129,7 @@ Value Value::parse(const std::string& text, const std::string& name) {
   if (!doc->root.IsMap()) {
     throw Error(name + ": expected a map of keys at the top level, got " + describe(doc->root));
   }
+  check_duplicates(name, doc->root, "");
   YAML::Node root = doc->root;
   return Value(doc, root, "");
 }
@@ -121,11 +178,16 @@ std::optional<Value> Value::find(std::string_view key) const {
 }
 
 Value Value::at(std::string_view key) const {
+  return at(key, "");
+}
+
+Value Value::at(std::string_view key, std::string_view expected) const {
   auto v = find(key);
   if (!v) {
     std::string msg = doc_->file;
     if (line() > 0) msg += ":" + std::to_string(line());
     msg += ": " + join_path(path_, key) + ": missing required key";
+    if (!expected.empty()) msg += " (expected " + std::string(expected) + ")";
     throw Error(msg);
   }
   return *v;
@@ -168,11 +230,7 @@ double Value::as_number(Range r) const {
     fail("a number");
   }
   if (!std::isfinite(v)) fail("a finite number");
-  if (v < r.min || v > r.max) {
-    std::ostringstream os;
-    os << "a number in [" << r.min << ", " << r.max << "]";
-    fail(os.str());
-  }
+  if (v < r.min || v > r.max) fail(describe_range(r));
   return v;
 }
 
@@ -184,9 +242,7 @@ std::int64_t Value::as_integer(std::int64_t min, std::int64_t max) const {
   } catch (const YAML::Exception&) {
     fail("an integer");
   }
-  if (v < min || v > max) {
-    fail("an integer in [" + std::to_string(min) + ", " + std::to_string(max) + "]");
-  }
+  if (v < min || v > max) fail(describe_integer(min, max));
   return v;
 }
 
@@ -233,13 +289,12 @@ std::string Value::string_or(std::string_view key, const std::string& fallback) 
 
 std::string Value::choice(std::string_view key,
                           std::initializer_list<std::string_view> allowed) const {
-  const Value v = at(key);
-  const std::string s = v.as_string();
   std::string list;
-  for (auto a : allowed) {
+  for (auto a : allowed) list += (list.empty() ? "" : ", ") + std::string(a);
+  const Value v = at(key, "one of: " + list);
+  const std::string s = v.as_string();
+  for (auto a : allowed)
     if (s == a) return s;
-    list += (list.empty() ? "" : ", ") + std::string(a);
-  }
   v.fail("one of: " + list);
 }
 
@@ -253,7 +308,7 @@ double Value::angle_deg(std::string_view key, Range r_deg) const {
     throw Error("internal: angle_deg() used with key '" + std::string(key) +
                 "', which does not end in _deg");
   }
-  return number(key, r_deg) * M_PI / 180.0;
+  return at(key, describe_range(r_deg) + " of degrees").as_number(r_deg) * M_PI / 180.0;
 }
 
 double Value::angle_deg_or(std::string_view key, double fallback_rad, Range r_deg) const {

@@ -2,9 +2,12 @@
 //
 // A config::Value is one node of a loaded document together with its key path. Every key that
 // is read is remembered; check_all_used() then reports any key nobody asked for. Every error
-// (missing key, unknown key, wrong type, out of range, bad file) throws config::Error whose
-// message names the file, the line, the key path and what was expected, e.g.
-//   config/vehicles/otter.yaml:12: thrusters[1].position: expected a sequence of 3 numbers
+// (missing key, unknown key, duplicate key, wrong type, out of range, bad file) throws
+// config::Error whose message names the file, the line, the key path and what was expected:
+//   config/vehicles/otter.yaml:12: thrusters[1].position: expected a sequence of 3 numbers, got 'x'
+//   config/mixer/otter.yaml:4: limits.min: missing required key (expected a number in [0, 1])
+//   config/mixer/otter.yaml:9: limits.max: duplicate key (first at line 5)
+//   config/mixer/otter.yaml:3: limtis: unknown key (not used by this program; misspelt?)
 // Angles: a key ending in "_deg" is read with angle_deg() and returned in radians; degrees are
 // accepted nowhere else.
 #pragma once
@@ -60,6 +63,8 @@ class Value {
   // Map access. at() requires the key; find() returns nothing when it is absent.
   bool has(std::string_view key) const;
   Value at(std::string_view key) const;
+  // Same, and a missing key's message says what was expected there ("a number in [0, 1]").
+  Value at(std::string_view key, std::string_view expected) const;
   std::optional<Value> find(std::string_view key) const;
   std::vector<std::string> keys() const;  // map keys in document order
 
@@ -77,17 +82,25 @@ class Value {
   std::vector<double> as_numbers(std::size_t n, Range r = {}) const;  // n = 0: any length >= 1
 
   // Shorthands for a required child key.
-  double number(std::string_view key, Range r = {}) const { return at(key).as_number(r); }
+  double number(std::string_view key, Range r = {}) const {
+    return at(key, describe_range(r)).as_number(r);
+  }
   std::int64_t integer(std::string_view key,
                        std::int64_t min = std::numeric_limits<std::int64_t>::min(),
                        std::int64_t max = std::numeric_limits<std::int64_t>::max()) const {
-    return at(key).as_integer(min, max);
+    return at(key, describe_integer(min, max)).as_integer(min, max);
   }
-  bool boolean(std::string_view key) const { return at(key).as_bool(); }
-  std::string string(std::string_view key) const { return at(key).as_string(); }
+  bool boolean(std::string_view key) const { return at(key, "true or false").as_bool(); }
+  std::string string(std::string_view key) const { return at(key, "a string").as_string(); }
   std::vector<double> numbers(std::string_view key, std::size_t n, Range r = {}) const {
-    return at(key).as_numbers(n, r);
+    return at(key, describe_numbers(n, r)).as_numbers(n, r);
   }
+
+  // What a number in `r` is called in messages: "a number", "a number in [0, 1]",
+  // "a number >= 0", "a number > 0".
+  static std::string describe_range(Range r);
+  static std::string describe_integer(std::int64_t min, std::int64_t max);
+  static std::string describe_numbers(std::size_t n, Range r);
   // Optional child keys with a default.
   double number_or(std::string_view key, double fallback, Range r = {}) const;
   std::int64_t integer_or(std::string_view key, std::int64_t fallback,

@@ -3,7 +3,11 @@
 #include <gtest/gtest.h>
 
 #include <cmath>
+#include <filesystem>
 #include <fstream>
+#include <functional>
+#include <string>
+#include <vector>
 
 #include "core/angles.hpp"
 #include "core/config.hpp"
@@ -49,8 +53,63 @@ TEST(Config, ReadsTypedValues) {
 
 TEST(Config, MissingKeyNamesFileLineAndPath) {
   const Value v = Value::parse(kDoc, "vehicle.yaml");
-  EXPECT_EQ(error_of([&] { v.at("limits").number("min"); }),
+  EXPECT_EQ(error_of([&] { v.at("limits").at("min"); }),
             "vehicle.yaml:6: limits.min: missing required key");
+}
+
+TEST(Config, MissingKeySaysWhatWasExpected) {
+  const Value v = Value::parse(kDoc, "vehicle.yaml");
+  const Value limits = v.at("limits");
+  struct Case {
+    std::function<void()> read;
+    std::string message;
+  };
+  const std::vector<Case> cases = {
+      {[&] {
+         limits.number("min", {0, 1});
+       },
+       "vehicle.yaml:6: limits.min: missing required key (expected a number in [0, 1])"},
+      {[&] { limits.number("min"); },
+       "vehicle.yaml:6: limits.min: missing required key (expected a number)"},
+      {[&] { limits.number("min", Range::at_least(0.5)); },
+       "vehicle.yaml:6: limits.min: missing required key (expected a number >= 0.5)"},
+      {[&] { limits.number("min", Range::positive()); },
+       "vehicle.yaml:6: limits.min: missing required key (expected a number > 0)"},
+      {[&] { limits.integer("count", 1, 16); },
+       "vehicle.yaml:6: limits.count: missing required key (expected an integer in [1, 16])"},
+      {[&] { limits.boolean("armed"); },
+       "vehicle.yaml:6: limits.armed: missing required key (expected true or false)"},
+      {[&] { limits.string("label"); },
+       "vehicle.yaml:6: limits.label: missing required key (expected a string)"},
+      {[&] {
+         limits.numbers("gains", 3, {0, 10});
+       },
+       "vehicle.yaml:6: limits.gains: missing required key (expected a sequence of 3 numbers "
+       "(each a number in [0, 10]))"},
+      {[&] {
+         limits.choice("mode", {"x", "h"});
+       },
+       "vehicle.yaml:6: limits.mode: missing required key (expected one of: x, h)"},
+      {[&] {
+         limits.angle_deg("yaw_deg", {-180, 180});
+       },
+       "vehicle.yaml:6: limits.yaw_deg: missing required key (expected a number in [-180, 180] "
+       "of degrees)"},
+  };
+  for (const auto& c : cases) EXPECT_EQ(error_of(c.read), c.message);
+}
+
+TEST(Config, DuplicateKeyIsAnErrorNamingBothLines) {
+  EXPECT_EQ(error_of([] { Value::parse("a: 1\nb: 2\na: 3\n", "dup.yaml"); }),
+            "dup.yaml:3: a: duplicate key (first at line 1)");
+  EXPECT_EQ(error_of([] { Value::parse("limits:\n  max: 1\n  min: 0\n  max: 2\n", "dup.yaml"); }),
+            "dup.yaml:4: limits.max: duplicate key (first at line 2)");
+  EXPECT_EQ(error_of([] {
+              Value::parse("thrusters:\n  - name: a\n  - name: b\n    name: c\n", "dup.yaml");
+            }),
+            "dup.yaml:4: thrusters[1].name: duplicate key (first at line 3)");
+  // The same key in two different maps is fine.
+  EXPECT_EQ(error_of([] { Value::parse("a:\n  x: 1\nb:\n  x: 2\n", "ok.yaml"); }), "(no error)");
 }
 
 TEST(Config, WrongTypeSaysWhatWasExpected) {
@@ -151,6 +210,23 @@ TEST(Angles, WrapPi) {
   EXPECT_NEAR(wrap_pi(-7 * kPi / 2), kPi / 2, 1e-12);
   EXPECT_NEAR(angle_diff(deg_to_rad(10), deg_to_rad(350)), deg_to_rad(20), 1e-12);
   EXPECT_TRUE(std::isnan(wrap_pi(std::nan(""))));
+}
+
+}  // namespace
+}  // namespace tiller::config
+
+namespace tiller::config {
+namespace {
+
+// Every YAML file the repository ships parses under the strict rules (no duplicate keys).
+TEST(Config, EveryShippedYamlParses) {
+  int n = 0;
+  for (const auto& e : std::filesystem::recursive_directory_iterator(TILLER_SOURCE_DIR "/config")) {
+    if (e.path().extension() != ".yaml") continue;
+    ++n;
+    EXPECT_EQ(error_of([&] { Value::load_file(e.path().string()); }), "(no error)");
+  }
+  EXPECT_GT(n, 10);
 }
 
 }  // namespace
