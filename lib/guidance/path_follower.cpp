@@ -177,8 +177,14 @@ FollowerOutput PathFollower::update(const Vec2& pos, double heading, double dt) 
   }
 
   // Heading: along the desired velocity, or the goal heading near the goal / when translating.
+  // "Near the goal" only on the last segment (or once complete), with both the path left and
+  // the straight line to the goal below goal_heading_distance: on a closed course the goal is
+  // also the start, and there the boat must head along the first segment, not face the goal's
+  // heading (which turned the Otter -0.7 rad and 2 m off the first leg).
   const double speed = v.norm();
-  const bool near_goal = out.distance_to_goal < p_.goal_heading_distance;
+  const bool last_leg = complete_ || seg_ + 2 >= n;
+  const bool near_goal = last_leg && out.remaining_path < p_.goal_heading_distance &&
+                         out.distance_to_goal < p_.goal_heading_distance;
   bool along_velocity = false;
   if (is_translation_ || (near_goal && goal_heading_valid_)) {
     if (goal_heading_valid_) {

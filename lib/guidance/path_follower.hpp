@@ -62,7 +62,8 @@ struct FollowerParams {
   double end_divisor_s = 2.0;               // s (linear law): speed = remaining / this
   double braking_decel = 0.25;              // m/s^2 (constant-deceleration law)
   double heading_slowdown_angle = kPi / 2;  // rad: heading error at which speed reaches zero
-  double goal_heading_distance = 2.0;       // m: nearer than this, target the goal heading
+  double goal_heading_distance = 2.0;       // m: on the last segment, nearer than this (path
+                                            // left and straight line), target the goal heading
   CrossTrackLaw law = CrossTrackLaw::kSeed;
   double integral_gain = 0.05;  // 1/s^2: d(correction)/dt = gain * (vector to path)
   double integral_limit = 0.5;  // m/s: bound on the correction's magnitude

@@ -109,6 +109,29 @@ TEST(ClosedLoop, DefaultMissionIsShort) {
   EXPECT_LT(r.path.final_position_error, 0.5);
 }
 
+// The default mission is a closed box: it starts where it ends, at a goal with a 180 deg
+// heading. The goal heading applies only on the last leg, so the Otter leaves the start along
+// the first leg (before the fix it was told to face south there: yaw -0.72 rad, 2.2 m east in
+// the first 8 s, a max cross-track of 2.24 m).
+TEST(ClosedLoop, ClosedCourseLeavesTheStartAlongTheFirstLeg) {
+  RunConfig c;  // config/missions/default.yaml
+  c.make_plant = plants()[0].make;
+  c.pose_channel = plants()[0].pose_channel;
+  const auto r = run_mission(c);
+  ASSERT_TRUE(r.completed);
+  double worst_yaw = 0, worst_east = 0;
+  for (const auto& p : r.poses) {
+    if (p.t > 8.0) break;
+    worst_yaw = std::max(worst_yaw, std::abs(angle_diff(p.heading, 0.0)));
+    worst_east = std::max(worst_east, std::abs(p.east));
+  }
+  EXPECT_LT(worst_yaw, 0.3);               // rad (was 0.72)
+  EXPECT_LT(worst_east, 0.6);              // m (was 2.2)
+  EXPECT_LT(r.path.cross_track_max, 1.6);  // m (was 2.24; what is left is the corners)
+  std::printf("otter default: first 8 s |yaw| <= %.2f rad, |east| <= %.2f m; xte max %.2f m\n",
+              worst_yaw, worst_east, r.path.cross_track_max);
+}
+
 TEST(ClosedLoop, SameRunSameResult) {
   RunConfig c;
   c.make_plant = plants()[1].make;

@@ -179,6 +179,33 @@ TEST(PathFollower, GoalHeadingNearTheGoal) {
   EXPECT_DOUBLE_EQ(o.heading_factor, 1.0);  // no slow-down for the goal heading
 }
 
+// A closed course starts where it ends: the goal heading (here 180 deg) applies only on the
+// last segment near the goal, never at the start of the first leg (the old rule, "within
+// goal_heading_distance of the goal on any segment", told the boat to face south at the start).
+TEST(PathFollower, ClosedCourseStartsAlongTheFirstLegNotAtTheGoalHeading) {
+  PathFollower f(seed_params());
+  auto p = pts({{0, 0}, {20, 0}, {20, 12}, {0, 12}, {0, 0}});
+  p.back().has_heading = true;
+  p.back().heading = kPi;
+  f.set_path(p, Vec2(0, 0), 0, false);
+  for (double n = 0; n <= 2.0; n += 0.25) {
+    const auto o = f.update(Vec2(n, 0.1), 0, 0);
+    SCOPED_TRACE(n);
+    EXPECT_EQ(o.segment, 0);
+    EXPECT_LT(o.distance_to_goal, 2.1);
+    EXPECT_NEAR(o.target_heading, 0.0, 0.06);  // along the first leg (plus the approach term)
+    EXPECT_GT(o.heading_factor, 0.9);
+  }
+  // On the last leg, 1.5 m (path and straight line) from the goal: the goal heading.
+  f.update(Vec2(20, 0), 0, 0);
+  f.update(Vec2(20, 12), kPi / 2, 0);
+  f.update(Vec2(0, 12), kPi, 0);
+  EXPECT_NEAR(f.update(Vec2(0, 5), -kPi / 2, 0).target_heading, -kPi / 2, 0.05);  // 5 m: along
+  const auto o = f.update(Vec2(0, 1.5), -kPi / 2, 0);
+  EXPECT_EQ(o.segment, 3);
+  EXPECT_DOUBLE_EQ(o.target_heading, kPi);
+}
+
 TEST(PathFollower, CompletesAtTheLastPointAndThenHeadsForTheGoal) {
   PathFollower f(seed_params());
   f.set_path(pts({{0, 0}, {10, 0}}), Vec2(0, 0), 0, false);
