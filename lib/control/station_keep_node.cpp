@@ -88,6 +88,7 @@ void StationKeepNode::publish_wrench(TimeUs now, bool valid, double x, double y,
 
 void StationKeepNode::on_tick(TimeUs now) {
   active_ = arb_fresh_.fresh(now) && arb_.active_source == wrench_t::SOURCE_STATION_KEEP;
+  const bool entering = active_ && !was_active_;
   if (!active_) {
     pid_.reset();
     blend_.stop();
@@ -134,7 +135,11 @@ void StationKeepNode::on_tick(TimeUs now) {
   in.u = odom_.velocity[0];
   in.v = odom_.velocity[1];
   in.r = odom_.velocity[5];
-  in.dt = (last_odom_utime_ < 0 || !active_) ? 0.0 : to_seconds(odom_.utime - last_odom_utime_);
+  // Integrate only while in control, and not on the entry tick (the integrator is exactly zero
+  // when station keeping takes over).
+  in.dt = (last_odom_utime_ < 0 || !active_ || entering)
+              ? 0.0
+              : to_seconds(odom_.utime - last_odom_utime_);
   last_odom_utime_ = odom_.utime;
   const bool alloc_ok = alloc_fresh_.fresh(now) && alloc_.source == wrench_t::SOURCE_STATION_KEEP;
   for (int k = 0; k < 3; ++k) {

@@ -137,16 +137,29 @@ void VelocityPidNode::on_tick(TimeUs now) {
   publish(channels::kArbitration, arb);
 
   const bool active = decision_.source == wrench_t::SOURCE_VELOCITY_PID;
+  const bool entering = active && !was_active_;
   if (!active) {
     pid_.reset();  // restart from zero on entry
     blend_.stop();
-  } else if (!was_active_) {
-    // Taking over from station keeping: start from its last wrench (else from what we had).
-    const bool from_station = station_fresh_.fresh(now) && station_wrench_.valid;
-    const wrench_t& f = from_station ? station_wrench_ : last_wrench_;
-    if (from_station || last_wrench_.valid) blend_.start(now, {f.tau[0], f.tau[1], f.tau[5]});
+  } else if (entering) {
+    // Taking over: blend from the wrench that was in force. From station keeping, its last
+    // wrench; from the pilot's open-loop stick, what the mixer last achieved with it (the
+    // allocation status is in newtons even for a normalised demand); else from what we had.
+    const bool from_station = prev_source_ == wrench_t::SOURCE_STATION_KEEP &&
+                              station_fresh_.fresh(now) && station_wrench_.valid;
+    const bool from_manual = prev_source_ == wrench_t::SOURCE_MANUAL_DEMAND &&
+                             alloc_fresh_.fresh(now) &&
+                             alloc_.source == wrench_t::SOURCE_MANUAL_DEMAND;
+    if (from_station) {
+      blend_.start(now, {station_wrench_.tau[0], station_wrench_.tau[1], station_wrench_.tau[5]});
+    } else if (from_manual) {
+      blend_.start(now, {alloc_.achieved[0], alloc_.achieved[1], alloc_.achieved[5]});
+    } else if (last_wrench_.valid) {
+      blend_.start(now, {last_wrench_.tau[0], last_wrench_.tau[1], last_wrench_.tau[5]});
+    }
   }
   was_active_ = active;
+  prev_source_ = decision_.source;
 
   // 2. The wrench.
   const bool odom_ok = odom_fresh_.fresh(now);
@@ -214,7 +227,9 @@ void VelocityPidNode::on_tick(TimeUs now) {
     in.yaw_mode = setpoint_.heading_valid ? YawMode::kHeading : YawMode::kRate;
     in.yaw_value = setpoint_.heading_valid ? setpoint_.target_heading : 0.0;
   }
-  if (!active) in.dt = 0;  // integrate only while in control
+  // Integrate only while in control, and not on the entry tick: the integrator is exactly zero
+  // when the PID takes over (it was reset while standing by).
+  if (!active || entering) in.dt = 0;
   const bool alloc_ok = alloc_fresh_.fresh(now) && alloc_.source == wrench_t::SOURCE_VELOCITY_PID;
   for (int k = 0; k < 3; ++k) {
     in.freeze[static_cast<std::size_t>(k)] =
@@ -227,6 +242,11 @@ void VelocityPidNode::on_tick(TimeUs now) {
     // Station keeping in force: track its wrench, so the hand-back has no step.
     publish_wrench(now, true, station_wrench_.tau[0], station_wrench_.tau[1],
                    station_wrench_.tau[5]);
+  } else if (decision_.source == wrench_t::SOURCE_MANUAL_DEMAND && alloc_fresh_.fresh(now) &&
+             alloc_.source == wrench_t::SOURCE_MANUAL_DEMAND) {
+    // The pilot's stick in force: track what the mixer makes of it, so a mixer that switches to
+    // us (on the arbitration, before this node's next wrench) sees no step.
+    publish_wrench(now, true, alloc_.achieved[0], alloc_.achieved[1], alloc_.achieved[5]);
   } else {
     publish_wrench(now, have_command, terms_.out[0], terms_.out[1], terms_.out[2]);
   }

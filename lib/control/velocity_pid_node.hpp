@@ -5,10 +5,11 @@
 // tick (rate_hz) it decides the wrench source and publishes TILLER_ARBITRATION, then publishes
 // TILLER_WRENCH_VELOCITY (body FRD [X Y 0 0 0 N], N and N m) and its terms on
 // TILLER_PID_VELOCITY. The PID integrates only while it is the active source (its integrator
-// restarts from zero on entry, and its output is blended from the station keeper's last wrench
-// over blend_s so the hand-over has no thrust step), with dt from the odometry times, frozen while
-// the mixer reports the axis reduced. No fresh setpoint: wrench invalid (the mixer treats it as
-// absent). Odometry stale: neutral, or the last wrench for hold_s, per config.
+// restarts from zero on entry, and its output is blended over blend_s from the wrench in force
+// before: the station keeper's last wrench, or what the mixer achieved with the pilot's
+// open-loop stick, so the hand-over has no thrust step), with dt from the odometry times, frozen
+// while the mixer reports the axis reduced. No fresh setpoint: wrench invalid (the mixer treats it
+// as absent). Odometry stale: neutral, or the last wrench for hold_s, per config.
 #pragma once
 
 #include <tiller/allocation_status_t.hpp>
@@ -69,6 +70,7 @@ class VelocityPidNode : public Node {
   Freshness station_fresh_;
   Blend blend_;
   bool was_active_ = false;
+  std::int8_t prev_source_ = -1;  // the arbiter's source at the previous tick
   std::int64_t *nan_odometry_, *bad_setpoint_, *bad_manual_, *bad_progress_, *bad_mode_;
 };
 
