@@ -109,6 +109,7 @@ void TeleopNode::apply_state(const joystick_state_t& s, TimeUs now) {
       compute_demand();
       publish_outputs(now);  // neutral at once, not at the next tick
       update_health();
+      publish_heartbeat_now(now);  // and say so at once, not at the next 1 Hz heartbeat
     }
     return;
   }

@@ -174,6 +174,12 @@ TEST(Connection, UnplugGivesNeutralAtOnceAndReplugNeedsCentring) {
   for (double v : d.demand) EXPECT_EQ(v, 0.0);
   EXPECT_FALSE(r.node.connected());
   EXPECT_EQ(r.node.counter_value("joystick.disconnects"), 1);
+  // The heartbeat says so at the same instant (not at the next 1 Hz heartbeat).
+  bool hb_at_unplug = false;
+  for (const auto& [t, m] : r.all<heartbeat_t>(r.node.heartbeat_channel())) {
+    hb_at_unplug = hb_at_unplug || (t == ms(1710) && m.state == heartbeat_t::STATE_DEGRADED);
+  }
+  EXPECT_TRUE(hb_at_unplug);
   // Stays neutral on every tick while absent; the heartbeat says why.
   r.run_until(ms(3000));
   for (const auto& [t, m] : r.all<manual_demand_t>(channels::kManualDemand)) {
