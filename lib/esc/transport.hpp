@@ -31,7 +31,9 @@ class I2cTransport {
     return 0;
   }
   // Blocks for `us` microseconds (device settling times, e.g. the PCA9685's 500 us after
-  // waking). Only used during start-up, never in the cycle. Fakes advance their model clock.
+  // waking). Used at start-up, and in a cycle only to set up again a PCA9685 that appeared late
+  // or came back asleep after a brown-out (at most once a second; that cycle is 0.5 ms late).
+  // Fakes advance their model clock.
   virtual void wait_us(std::int64_t us) = 0;
   // Tells the transport the executor's time before a cycle's transactions (fakes drive their
   // device models with it; the Linux transport ignores it).
