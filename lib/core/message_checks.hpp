@@ -1,0 +1,226 @@
+// Message checks: one function per Tiller input type that says whether a decoded message may
+// act, using the ranges written in its .lcm file (the contract). check(msg) returns nullptr
+// when the message is good, else a short static reason ("yaw.range", "tau.range", ...) that a
+// node counts before dropping the message (runtime/node.hpp reject()). No allocation, no
+// throw. NaN and infinity fail every numeric check; headings must be in (-pi, pi] (so -pi is
+// refused: the contract's representation of "south" is +pi).
+//
+// Usage in a handler (one counter per input, or one per reason):
+//   if (checks::check(m) != nullptr) {
+//     reject(*rejected_odometry_);
+//     return;
+//   }
+#pragma once
+
+#include <cmath>
+#include <cstddef>
+#include <cstdint>
+
+#include <tiller/allocation_status_t.hpp>
+#include <tiller/arbitration_t.hpp>
+#include <tiller/arm_request_t.hpp>
+#include <tiller/arm_state_t.hpp>
+#include <tiller/controller_mode_t.hpp>
+#include <tiller/esc_output_t.hpp>
+#include <tiller/heartbeat_t.hpp>
+#include <tiller/joystick_state_t.hpp>
+#include <tiller/manual_demand_t.hpp>
+#include <tiller/manual_velocity_cmd_t.hpp>
+#include <tiller/odometry_t.hpp>
+#include <tiller/path_progress_t.hpp>
+#include <tiller/path_t.hpp>
+#include <tiller/station_target_t.hpp>
+#include <tiller/thruster_command_t.hpp>
+#include <tiller/velocity_setpoint_t.hpp>
+#include <tiller/wrench_t.hpp>
+
+namespace tiller::checks {
+
+using Reason = const char*;  // nullptr: the message is good
+
+namespace detail {
+constexpr double kPi = 3.14159265358979323846;
+inline bool finite(const double* v, std::size_t n) {
+  for (std::size_t i = 0; i < n; ++i)
+    if (!std::isfinite(v[i])) return false;
+  return true;
+}
+inline bool within(const double* v, std::size_t n, double lo, double hi) {
+  for (std::size_t i = 0; i < n; ++i)
+    if (!(std::isfinite(v[i]) && v[i] >= lo && v[i] <= hi)) return false;
+  return true;
+}
+// A heading or a wrapped angle: (-pi, pi].
+inline bool heading(double a) {
+  return std::isfinite(a) && a > -kPi && a <= kPi;
+}
+inline bool source(std::int8_t s) {
+  return s >= wrench_t::SOURCE_NONE && s <= wrench_t::SOURCE_STATION_KEEP;
+}
+inline bool mode(std::int8_t m) {
+  return m >= controller_mode_t::MANUAL_OPEN_LOOP && m <= controller_mode_t::WAYPOINTING;
+}
+}  // namespace detail
+
+// odometry_t: position and velocity finite; roll and yaw in (-pi, pi], pitch in
+// [-pi/2, pi/2] (ZYX Euler); covariances 0 or 36 finite entries.
+inline Reason check(const odometry_t& m) {
+  using namespace detail;
+  if (!finite(m.position, 3)) return "position.nan";
+  if (!finite(m.orientation, 3)) return "orientation.nan";
+  if (!heading(m.orientation[0])) return "roll.range";
+  if (!(m.orientation[1] >= -kPi / 2 && m.orientation[1] <= kPi / 2)) return "pitch.range";
+  if (!heading(m.orientation[2])) return "yaw.range";
+  if (!finite(m.velocity, 6)) return "velocity.nan";
+  if (m.n_pose_cov != 0 && m.n_pose_cov != 36) return "pose_cov.size";
+  if (!finite(m.pose_covariance.data(), m.pose_covariance.size())) return "pose_cov.nan";
+  if (m.n_velocity_cov != 0 && m.n_velocity_cov != 36) return "velocity_cov.size";
+  if (!finite(m.velocity_covariance.data(), m.velocity_covariance.size()))
+    return "velocity_cov.nan";
+  return nullptr;
+}
+
+// velocity_setpoint_t: a known frame, each velocity in [-10, 10] m/s, the target heading
+// finite and, when heading_valid, in (-pi, pi].
+inline Reason check(const velocity_setpoint_t& m) {
+  using namespace detail;
+  if (m.frame != velocity_setpoint_t::FRAME_NED && m.frame != velocity_setpoint_t::FRAME_BODY)
+    return "frame.unknown";
+  if (!within(m.velocity, 3, -10, 10)) return "velocity.range";
+  if (!std::isfinite(m.target_heading)) return "heading.nan";
+  if (m.heading_valid && !heading(m.target_heading)) return "heading.range";
+  return nullptr;
+}
+
+// station_target_t: position finite; heading finite and, when heading_valid, in (-pi, pi].
+inline Reason check(const station_target_t& m) {
+  using namespace detail;
+  if (!finite(m.position, 3)) return "position.nan";
+  if (!std::isfinite(m.heading)) return "heading.nan";
+  if (m.heading_valid && !heading(m.heading)) return "heading.range";
+  return nullptr;
+}
+
+// wrench_t: a known source, each component within +-1e5 (N, N m).
+inline Reason check(const wrench_t& m) {
+  using namespace detail;
+  if (!source(m.source)) return "source.unknown";
+  if (!within(m.tau, 6, -1e5, 1e5)) return "tau.range";
+  return nullptr;
+}
+
+// allocation_status_t: a known source; demanded / achieved / unallocated finite; scale in
+// [0, 1]; 0..16 thrusters.
+inline Reason check(const allocation_status_t& m) {
+  using namespace detail;
+  if (!source(m.source)) return "source.unknown";
+  if (!finite(m.demanded, 6)) return "demanded.nan";
+  if (!finite(m.achieved, 6)) return "achieved.nan";
+  if (!finite(m.unallocated, 6)) return "unallocated.nan";
+  if (!(m.scale >= 0.0 && m.scale <= 1.0)) return "scale.range";
+  if (m.n_thrusters < 0 || m.n_thrusters > 16) return "n_thrusters.range";
+  return nullptr;
+}
+
+// arbitration_t: a known mode and a known source.
+inline Reason check(const arbitration_t& m) {
+  if (!detail::mode(m.mode)) return "mode.unknown";
+  if (!detail::source(m.active_source)) return "source.unknown";
+  return nullptr;
+}
+
+// manual_demand_t: each axis in [-1, 1].
+inline Reason check(const manual_demand_t& m) {
+  if (!detail::within(m.demand, 6, -1, 1)) return "demand.range";
+  return nullptr;
+}
+
+// manual_velocity_cmd_t: velocity in [-10, 10] m/s, a known yaw mode, yaw rate in [-5, 5]
+// rad/s, heading in (-pi, pi], yaw torque in [-1e4, 1e4] N m.
+inline Reason check(const manual_velocity_cmd_t& m) {
+  using namespace detail;
+  if (!within(m.velocity, 3, -10, 10)) return "velocity.range";
+  if (m.yaw_mode < manual_velocity_cmd_t::YAW_RATE ||
+      m.yaw_mode > manual_velocity_cmd_t::YAW_TORQUE)
+    return "yaw_mode.unknown";
+  if (!within(&m.yaw_rate, 1, -5, 5)) return "yaw_rate.range";
+  if (!heading(m.heading)) return "heading.range";
+  if (!within(&m.yaw_torque, 1, -1e4, 1e4)) return "yaw_torque.range";
+  return nullptr;
+}
+
+// controller_mode_t: a known mode.
+inline Reason check(const controller_mode_t& m) {
+  return detail::mode(m.mode) ? nullptr : "mode.unknown";
+}
+
+// arm_request_t, arm_state_t: booleans and text only; always good once decoded.
+inline Reason check(const arm_request_t&) {
+  return nullptr;
+}
+inline Reason check(const arm_state_t&) {
+  return nullptr;
+}
+
+// path_t: 0..10000 waypoints, each position within +-1e6 m, heading in (-pi, pi] where
+// has_heading (ignored otherwise).
+inline Reason check(const path_t& m) {
+  using namespace detail;
+  if (m.n_waypoints < 0 || m.n_waypoints > 10000) return "n_waypoints.range";
+  for (const auto& w : m.waypoints) {
+    if (!within(w.position, 3, -1e6, 1e6)) return "waypoint.position.range";
+    if (w.has_heading && !heading(w.heading)) return "waypoint.heading.range";
+  }
+  return nullptr;
+}
+
+// path_progress_t: segment >= -1, n_waypoints >= 0, errors finite, distance to goal >= 0.
+inline Reason check(const path_progress_t& m) {
+  if (m.segment < -1) return "segment.range";
+  if (m.n_waypoints < 0) return "n_waypoints.range";
+  if (!std::isfinite(m.cross_track_error) || !std::isfinite(m.along_track_error))
+    return "error.nan";
+  if (!(m.distance_to_goal >= 0.0) || !std::isfinite(m.distance_to_goal)) return "distance.range";
+  return nullptr;
+}
+
+// thruster_command_t: a known source, 0..16 thrusters, each command in [-1, 1].
+inline Reason check(const thruster_command_t& m) {
+  if (!detail::source(m.source)) return "source.unknown";
+  if (m.n_thrusters < 0 || m.n_thrusters > 16) return "n_thrusters.range";
+  if (!detail::within(m.command.data(), m.command.size(), -1, 1)) return "command.range";
+  return nullptr;
+}
+
+// esc_output_t: a known unit, 0..16 channels, values in the unit's range (int16 throttle
+// -32767..32767, pulse 500..2500 us), normalized in [-1, 1].
+inline Reason check(const esc_output_t& m) {
+  if (m.unit != esc_output_t::UNIT_THROTTLE_INT16 && m.unit != esc_output_t::UNIT_PULSE_US)
+    return "unit.unknown";
+  if (m.n_channels < 0 || m.n_channels > 16) return "n_channels.range";
+  const std::int32_t lo = m.unit == esc_output_t::UNIT_PULSE_US ? 500 : -32767;
+  const std::int32_t hi = m.unit == esc_output_t::UNIT_PULSE_US ? 2500 : 32767;
+  for (std::int32_t v : m.value)
+    if (v < lo || v > hi) return "value.range";
+  if (!detail::within(m.normalized.data(), m.normalized.size(), -1, 1)) return "normalized.range";
+  return nullptr;
+}
+
+// joystick_state_t: 0..64 axes, each -32767..32767; 0..128 buttons.
+inline Reason check(const joystick_state_t& m) {
+  if (m.n_axes < 0 || m.n_axes > 64) return "n_axes.range";
+  for (std::int16_t a : m.axes)
+    if (a < -32767) return "axis.range";
+  if (m.n_buttons < 0 || m.n_buttons > 128) return "n_buttons.range";
+  return nullptr;
+}
+
+// heartbeat_t: 0..64 counters, each >= 0.
+inline Reason check(const heartbeat_t& m) {
+  if (m.n_counters < 0 || m.n_counters > 64) return "n_counters.range";
+  for (std::int64_t v : m.counter_values)
+    if (v < 0) return "counter.range";
+  return nullptr;
+}
+
+}  // namespace tiller::checks
