@@ -28,9 +28,19 @@ std::string esc_where(const esc::EscBackend& b, std::size_t i) {
 }
 }  // namespace
 
+// With write_on_command the node ticks every min_write_interval (so a command held back by
+// the interval goes out at the next tick instead of the next cycle); the bus cycle itself stays
+// on its own grid of 1 / rate_hz.
+TimeUs EscNode::tick_period_for(const esc::EscNodeParams& p) {
+  const TimeUs cycle = from_hz(p.rate_hz);
+  const TimeUs w = p.min_write_interval_us;
+  return p.write_on_command && w > 0 && w < cycle ? w : cycle;
+}
+
 EscNode::EscNode(esc::EscNodeParams p, std::unique_ptr<esc::EscBackend> backend)
-    : Node("esc", from_hz(p.rate_hz)),
+    : Node("esc", tick_period_for(p)),
       p_(p),
+      cycle_period_(from_hz(p.rate_hz)),
       backend_(std::move(backend)),
       n_(backend_->size()),
       command_(n_, 0.0),
@@ -163,11 +173,13 @@ void EscNode::on_command(const thruster_command_t& m, TimeUs now) {
   // is to send). An unchanged one (the mixer's fixed-rate repeats) waits for the cycle, so it
   // does not use up the interval. The cycle's own writes do not count against the interval
   // either: a command that arrives just after a cycle still goes out at once.
-  if (p_.write_on_command && changed && armed_ && started_ &&
-      (!have_extra_write_ || now - last_extra_write_ >= p_.min_write_interval_us)) {
-    last_extra_write_ = now;
-    have_extra_write_ = true;
-    write_cycle(now, false, /*poll_telemetry=*/false);
+  // One held back by the interval is written at the first tick the interval allows.
+  if (p_.write_on_command && changed && armed_ && started_) {
+    if (!have_extra_write_ || now - last_extra_write_ >= p_.min_write_interval_us) {
+      write_extra(now);
+    } else {
+      pending_ = true;
+    }
   }
 }
 
@@ -234,7 +246,13 @@ void EscNode::on_tick(TimeUs now) {
       set_armed(false, buf, now);
     }
   }
-  write_cycle(now, false, /*poll_telemetry=*/true);
+  if (now >= next_cycle_) {
+    write_cycle(now, false, /*poll_telemetry=*/true);
+    pending_ = false;  // the cycle carried the latest command
+    next_cycle_ = (now / cycle_period_ + 1) * cycle_period_;
+  } else if (pending_ && armed_ && now - last_extra_write_ >= p_.min_write_interval_us) {
+    write_extra(now);
+  }
   if (now >= next_10hz_) {
     publish_arm_state(now);
     publish_status(now);
@@ -244,8 +262,15 @@ void EscNode::on_tick(TimeUs now) {
   }
 }
 
+void EscNode::write_extra(TimeUs now) {
+  last_extra_write_ = now;
+  have_extra_write_ = true;
+  pending_ = false;
+  write_cycle(now, false, /*poll_telemetry=*/false);
+}
+
 void EscNode::write_cycle(TimeUs now, bool force_neutral, bool poll_telemetry) {
-  double dt = have_cycle_ ? to_seconds(now - last_cycle_) : to_seconds(tick_period());
+  double dt = have_cycle_ ? to_seconds(now - last_cycle_) : to_seconds(cycle_period_);
   dt = std::clamp(dt, 0.0, 1.0);
   last_cycle_ = now;
   have_cycle_ = true;

@@ -14,7 +14,8 @@
 // thruster, or no fresh command); a disarm request always disarms. With disarm_on_timeout the
 // command timeout also disarms.
 // A changed command while armed is also written at once (write_on_command, default on; at most
-// one extra write per min_write_interval), so the stick -> ESC latency does not wait a cycle.
+// one extra write per min_write_interval, a command held back going out at the next tick, which
+// then comes every min_write_interval), so the stick -> ESC latency does not wait a cycle.
 // Outputs: TILLER_ESC_OUTPUT every cycle (what went on the bus, hardware units, and the same
 // value mapped back to normalised motor units), TILLER_ARM_STATE on change and at 10 Hz,
 // TILLER_ESC_STATUS and TILLER_ESC_TELEMETRY at 10 Hz. shutdown() writes neutral to every ESC.
@@ -73,11 +74,14 @@ class EscNode : public Node {
   void set_armed(bool armed, const std::string& reason, TimeUs now);
   void publish_arm_state(TimeUs now);
   void write_cycle(TimeUs now, bool force_neutral, bool poll_telemetry);
+  void write_extra(TimeUs now);  // a command written at once (write_on_command)
+  static TimeUs tick_period_for(const esc::EscNodeParams& p);
   void publish_status(TimeUs now);
   void publish_telemetry(TimeUs now);
   void update_health();
 
   esc::EscNodeParams p_;
+  TimeUs cycle_period_;  // the bus cycle, 1 / rate_hz (the tick may be shorter, see .cpp)
   std::unique_ptr<esc::EscBackend> backend_;
   std::size_t n_;
   bool started_ = false;
@@ -97,6 +101,8 @@ class EscNode : public Node {
   bool have_cycle_ = false;
   TimeUs last_extra_write_ = 0;  // the last command-triggered write (write_on_command)
   bool have_extra_write_ = false;
+  bool pending_ = false;  // a changed command held back by min_write_interval
+  TimeUs next_cycle_ = 0;
   TimeUs next_10hz_ = 0;
   std::int64_t cycles_ = 0;
   std::int64_t timeouts_ = 0;

@@ -1,7 +1,8 @@
-// Cost of one ESC cycle for 4 and 8 ESCs: a thruster command delivered mid-period and written at
-// once (one write per ESC), then the node's tick (safety logic, one write per ESC on the fake
-// bus with device models, one telemetry read), each with its output message encoded; and the
-// heap allocations per cycle (must be 0). bus_transactions_per_cycle is 2n + 1 for tgy.
+// Cost of one 10 ms ESC bus cycle for 4 and 8 ESCs: the node's five 2 ms ticks, a changed
+// thruster command delivered mid-cycle and written at once (one write per ESC), and the tick on
+// the cycle's grid (safety logic, one write per ESC on the fake bus with device models, one
+// telemetry read), each write with its output message encoded; and the heap allocations per
+// cycle (must be 0). bus_transactions_per_cycle is 2n + 1 for tgy.
 #include <benchmark/benchmark.h>
 
 #include "alloc_count.hpp"

@@ -106,7 +106,7 @@ TEST(EscNode, ReversedFlipsOnlyItsOwnSign) {
 TEST(EscNode, ArmedCommandIsWrittenAtOnceAtMostOncePerInterval) {
   // write_on_command: a changed command while armed goes on the bus at the instant it arrives, not
   // at the next 10 ms cycle, even just after a cycle's write; a burst is held to one extra write
-  // per min_write_interval (2 ms);
+  // per min_write_interval (2 ms), the held-back command going out at the next 2 ms tick;
   // disarmed, nothing extra is written (the cycle's neutral is all there is).
   Rig r(sim_yaml("disarm_on_timeout: false\n"));
   r.run_until(0);
@@ -126,17 +126,23 @@ TEST(EscNode, ArmedCommandIsWrittenAtOnceAtMostOncePerInterval) {
   EXPECT_TRUE(outs.back().armed);
   EXPECT_EQ(outs.back().value[0], std::lround(0.25 * 32767));
   r.run_until(22'500);
-  r.command({0.5, 0.0, 0.0, 0.0});  // 1.5 ms after the last extra write: waits for the cycle
+  r.command({0.5, 0.0, 0.0, 0.0});  // 1.5 ms after the last extra write: held back...
   EXPECT_EQ(r.cap.all<esc_output_t>(channels::kEscOutput).size(), before + 1);
-  r.run_until(30'000);
+  EXPECT_EQ(r.node->tick_period(), 2'000);  // ...to the first 2 ms tick the interval allows
+  r.run_until(24'000);
   outs = r.cap.all<esc_output_t>(channels::kEscOutput);
   ASSERT_EQ(outs.size(), before + 2);
-  EXPECT_EQ(outs.back().utime, 30'000);
+  EXPECT_EQ(outs.back().utime, 24'000);
   EXPECT_EQ(outs.back().value[0], std::lround(0.5 * 32767));
+  r.run_until(30'000);  // the bus cycle stays on its 10 ms grid
+  outs = r.cap.all<esc_output_t>(channels::kEscOutput);
+  ASSERT_EQ(outs.size(), before + 3);
+  EXPECT_EQ(outs.back().utime, 30'000);
   // The same command again (the mixer's fixed-rate repeat) is left to the cycle.
   r.run_until(35'000);
   r.command({0.5, 0.0, 0.0, 0.0});
-  EXPECT_EQ(r.cap.all<esc_output_t>(channels::kEscOutput).size(), before + 2);
+  r.run_until(39'000);
+  EXPECT_EQ(r.cap.all<esc_output_t>(channels::kEscOutput).size(), before + 3);
 
   Rig off(sim_yaml("disarm_on_timeout: false\nwrite_on_command: false\n"));
   off.run_until(20'000);

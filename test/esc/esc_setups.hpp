@@ -75,14 +75,24 @@ struct Steady {
     node->tick(0);
     node->deliver(channels::kArmRequest, arm.data.data(), static_cast<int>(arm.data.size()), 0);
   }
-  // One cycle: a changed command arrives half a period after the last tick and is written at once
-  // (write_on_command), then the tick writes every ESC again and reads one ESC's telemetry.
+  // One bus cycle (10 ms at 100 Hz): the node's ticks every tick_period (2 ms with
+  // write_on_command), a changed command arriving mid-cycle and written at once, and the tick on
+  // the cycle's grid writing every ESC again and reading one ESC's telemetry.
   void cycle() {
-    now += node->tick_period() / 2;
-    const Event& c = (flip = !flip) ? command : command_b;
-    node->deliver(c.channel, c.data.data(), static_cast<int>(c.data.size()), now);
-    now += node->tick_period() - node->tick_period() / 2;
-    node->tick(now);
+    const TimeUs cycle_period = from_hz(node->params().rate_hz);
+    const TimeUs start = now;
+    bool delivered = false;
+    for (TimeUs t = start + node->tick_period(); t <= start + cycle_period;
+         t += node->tick_period()) {
+      if (!delivered && t > start + cycle_period / 2) {
+        now = start + cycle_period / 2 + 500;
+        const Event& c = (flip = !flip) ? command : command_b;
+        node->deliver(c.channel, c.data.data(), static_cast<int>(c.data.size()), now);
+        delivered = true;
+      }
+      now = t;
+      node->tick(now);
+    }
   }
 };
 
