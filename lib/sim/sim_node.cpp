@@ -52,6 +52,9 @@ SimParams load_sim_params(const config::Value& root) {
   p.ground_truth_period_us = period_from_rate(root, "ground_truth_rate_hz", p.step_us);
   p.sim_state_period_us = period_from_rate(root, "sim_state_rate_hz", p.step_us);
   p.esc_timeout_us = from_seconds(root.number("esc_timeout_s", {0.01, 60.0}));
+  p.esc_timeout_model = root.choice_or("esc_timeout_model", "safe", {"safe", "hardware"}) == "safe"
+                            ? SimParams::EscTimeoutModel::kSafe
+                            : SimParams::EscTimeoutModel::kHardware;
   if (auto pulse = root.find("pulse_us")) {
     p.pulse_min_us = pulse->number("min", {500, 2500});
     p.pulse_neutral_us = pulse->number("neutral", {500, 2500});
@@ -176,6 +179,9 @@ SimNode::SimNode(const SimParams& params, const SimVehicle& v)
                         ") has no dynamics.wind_coefficients, so the wind would do nothing");
   }
   subscribe(channels::kEscOutput, &SimNode::on_esc_output);
+  advertise<odometry_t>(channels::kOdometry);
+  advertise<odometry_t>(channels::kGroundTruth);
+  advertise<sim_state_t>(channels::kSimState);
   rej_name_ = &counter("rejected.esc_output.unknown_thruster");
   rej_unit_ = &counter("rejected.esc_output.unit");
   rej_range_ = &counter("rejected.esc_output.out_of_range");
@@ -237,6 +243,10 @@ void SimNode::on_esc_output(const esc_output_t& m, TimeUs now) {
     target[static_cast<std::size_t>(i)] = m.armed ? t.thrust_from_command(u) : 0.0;
   }
   commanded_ = target;
+  if (p_.esc_timeout_model == SimParams::EscTimeoutModel::kHardware) {
+    esc_fresh_.set_limit(m.unit == esc_output_t::UNIT_THROTTLE_INT16 ? SimParams::kTgyHoldUs
+                                                                     : SimParams::kForeverUs);
+  }
   esc_fresh_.mark(now);
 }
 

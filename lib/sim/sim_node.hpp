@@ -12,8 +12,9 @@
 // min) otherwise, inverted) gives the motor's command; a thruster with `reversed: true` had its
 // sign flipped by tiller-esc, so the simulator flips it back into Tiller's convention and then
 // uses Thruster::thrust_from_command (lib/vehicle, the same curve the mixer inverts).
-// Disarmed output, or none fresher than esc_timeout, commands zero thrust; the lag then decays
-// the thrust as spinning-down propellers would. A message with an unknown thruster name, an
+// Disarmed output, or none fresher than esc_timeout (or, with esc_timeout_model: hardware, the
+// hold time of the ESC type that sent it), commands zero thrust; the lag then decays the thrust
+// as spinning-down propellers would. A message with an unknown thruster name, an
 // unknown unit or a value out of range is dropped and counted (the last good one stays, until
 // it goes stale).
 #pragma once
@@ -43,6 +44,17 @@ struct SimParams {
   TimeUs ground_truth_period_us = 50'000;
   TimeUs sim_state_period_us = 50'000;
   TimeUs esc_timeout_us = 500'000;  // ESC output older than this commands zero thrust
+  // How long the last ESC output keeps driving the motors once tiller-esc stops sending:
+  //   kSafe      esc_timeout_us for every ESC (the default: a simulated vehicle whose bus driver
+  //              died stops, whatever its ESCs would do);
+  //   kHardware  as the ESCs would: an I2C throttle ESC (BlueESC/tgy, UNIT_THROTTLE_INT16)
+  //              keeps its last throttle for kTgyHoldUs and then stops (hardware.md: about
+  //              4-5 s); a PWM ESC behind a PCA9685 (UNIT_PULSE_US) keeps its last pulse, so
+  //              the motors keep turning indefinitely (for testing what a dead driver does).
+  enum class EscTimeoutModel { kSafe, kHardware };
+  EscTimeoutModel esc_timeout_model = EscTimeoutModel::kSafe;
+  static constexpr TimeUs kTgyHoldUs = 4'500'000;
+  static constexpr TimeUs kForeverUs = 100LL * 365 * 24 * 3600 * kUsPerSecond;
   double pulse_min_us = 1100, pulse_neutral_us = 1500, pulse_max_us = 1900;
   double throttle_full_scale = 32767;
   int max_steps_per_tick = 100;  // live: a late tick catches up at most this many steps

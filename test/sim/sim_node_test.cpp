@@ -233,6 +233,54 @@ TEST(SimNode, StaleEscOutputDecaysTheThrustToZero) {
   EXPECT_LT(node.model().nu()[0], 1e-3);
 }
 
+// esc_timeout_model: hardware. Seed 000's I2C throttle ESCs (tgy) keep the last throttle for
+// 4.5 s and then stop; seed 001's PWM ESCs behind a PCA9685 keep the last pulse for good.
+TEST(SimNode, HardwareTimeoutModelHoldsTheLastOutputAsTheEscWould) {
+  {
+    auto p = params_for("seed000_rov4");
+    p.esc_timeout_model = SimParams::EscTimeoutModel::kHardware;
+    SimNode node(p, load_sim_vehicle_file(p.vehicle_file));
+    LockstepExecutor ex(0);
+    ex.add(node);
+    feed(ex, esc_output(node.vehicle(), esc_output_t::UNIT_THROTTLE_INT16, {32767, 32767, 0, 0}), 0,
+         kUsPerSecond);
+    ex.run_until(kUsPerSecond + 4'500'000);  // 4.5 s after the last output: still driving
+    EXPECT_TRUE(node.esc_fresh());
+    EXPECT_NEAR(node.model().thrust(0), 36.38, 0.01);
+    ex.run_until(kUsPerSecond + 4'510'000);
+    EXPECT_FALSE(node.esc_fresh());
+    ex.run_until(kUsPerSecond + 6'000'000);
+    EXPECT_LT(std::abs(node.model().thrust(0)), 1e-9);
+  }
+  {
+    auto p = params_for("seed001_rov6");
+    p.esc_timeout_model = SimParams::EscTimeoutModel::kHardware;
+    SimNode node(p, load_sim_vehicle_file(p.vehicle_file));
+    LockstepExecutor ex(0);
+    ex.add(node);
+    std::vector<std::int32_t> us(6, 1500);
+    us[1] = 1700;
+    feed(ex, esc_output(node.vehicle(), esc_output_t::UNIT_PULSE_US, us), 0, kUsPerSecond);
+    ex.run_until(120 * kUsPerSecond);  // two minutes without a message
+    EXPECT_TRUE(node.esc_fresh());
+    EXPECT_NEAR(node.model().thrust(1), node.vehicle().thrusters[1].thrust_from_command(0.5), 1e-9);
+    EXPECT_EQ(node.stale(), 0);
+  }
+  // The shipped config keeps the safe default; a bad value names the key.
+  const auto root = config::Value::load_file(kSrc + "/config/sim/sim.yaml");
+  EXPECT_EQ(load_sim_params(root).esc_timeout_model, SimParams::EscTimeoutModel::kSafe);
+  try {
+    const auto v = config::Value::parse(
+        "vehicle: ../vehicles/otter.yaml\nodometry_rate_hz: 20\nground_truth_rate_hz: 20\n"
+        "sim_state_rate_hz: 20\nesc_timeout_s: 0.5\nesc_timeout_model: real\n",
+        kSrc + "/config/sim/test.yaml");
+    (void)load_sim_params(v);
+    FAIL() << "esc_timeout_model: real accepted";
+  } catch (const config::Error& e) {
+    EXPECT_NE(std::string(e.what()).find("esc_timeout_model"), std::string::npos) << e.what();
+  }
+}
+
 TEST(SimNode, BadEscOutputIsDroppedAndCountedAndTheLastGoodOneStays) {
   const auto p = params_for("otter");
   SimNode node(p, load_sim_vehicle_file(p.vehicle_file));
