@@ -37,9 +37,10 @@ inline VesselModel model_of(const std::string& name) {
   return VesselModel(dynamics_of(name), geometry_of(name));
 }
 
-// The Otter as Fossen's otter.py has it for the Coriolis terms it keeps in the manoeuvring
-// model's C: the rigid body's alone (m = 80 kg, m x_g = 12.25, Iz = 15.8 about the reference
-// point), the added-mass (Munk) moment neglected. Not what config/vehicles/otter.yaml uses.
+// The Otter with the Coriolis terms of the rigid body alone (m = 80 kg, M23 = 12.25, Iz = 15.8):
+// no added-mass (Munk) yaw moment, like otter.py, which zeroes C_A's yaw-row u and v entries;
+// but unlike otter.py also without C_A's surge and sway terms (Tiller's coriolis_mass_matrix
+// cannot zero single entries). Not what config/vehicles/otter.yaml uses.
 inline DynamicsParams otter_rigid_coriolis() {
   DynamicsParams p = dynamics_of("otter");
   constexpr int idx[3] = {0, 1, 5};
