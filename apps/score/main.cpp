@@ -62,17 +62,24 @@ int main(int argc, char** argv) {
     if (path.empty()) throw std::runtime_error("no TILLER_PATH in the log and no --mission");
     if (run.empty()) throw std::runtime_error("no " + pose_ch + " in the log");
     if (start < 0) start = run.front().t;
+    // A one-point path is followed from where the boat was: score it that way (else the
+    // cross-track would be the distance to the goal).
+    path = scores::path_as_followed(path, run, start);
     const auto s = scores::score_path(run, path, start, complete_at);
     const auto& g = path.back();
     std::printf("pose from           %s (%zu samples)\n", pose_ch.c_str(), run.size());
     std::printf("waypoints           %zu (reached in order %d, missed %d)\n", path.size(),
                 s.waypoints_reached, s.waypoints_missed);
-    std::printf("time to complete    %.1f s\n", s.time_to_complete);
+    if (s.time_to_complete >= 0)
+      std::printf("time to complete    %.1f s\n", s.time_to_complete);
+    else
+      std::printf("time to complete    not completed\n");
     std::printf("cross-track RMS     %.3f m (max %.3f m)\n", s.cross_track_rms, s.cross_track_max);
     std::printf("final position err  %.3f m\n", s.final_position_error);
     if (s.final_heading_error >= 0)
       std::printf("final heading err   %.3f rad\n", s.final_heading_error);
-    std::printf("VRX wayfinding      %.3f\n", s.vrx_wayfinding);
+    std::printf("VRX wayfinding      %.3f (mean over %d waypoints%s)\n", s.vrx_wayfinding,
+                s.wayfinding_points, s.start_excluded ? ", the start point left out" : "");
     if (s.time_to_complete >= 0) {
       const double t0 = start + s.time_to_complete;
       std::printf("VRX station keeping %.3f (from completion to the end of the log, %.0f s)\n",

@@ -71,10 +71,35 @@ PathScores score_path(const std::vector<Pose>& run, const std::vector<Goal>& pat
   const auto& g = path.back();
   s.final_position_error = std::hypot(run.back().north - g.north, run.back().east - g.east);
   s.final_heading_error = g.has_heading ? std::abs(angle_diff(g.heading, run.back().heading)) : -1;
+  // Wayfinding: the task's waypoints, without the start (see scores.hpp).
+  const Pose* first = nullptr;
+  for (const auto& p : run) {
+    if (p.t >= start) {
+      first = &p;
+      break;
+    }
+  }
+  s.start_excluded =
+      path.size() > 1 && first != nullptr &&
+      std::hypot(first->north - path[0].north, first->east - path[0].east) < visit_radius;
   double w = 0;
-  for (double b : best_e) w += b;
-  s.vrx_wayfinding = w / static_cast<double>(path.size());
+  for (std::size_t k = s.start_excluded ? 1 : 0; k < best_e.size(); ++k) {
+    w += best_e[k];
+    ++s.wayfinding_points;
+  }
+  s.vrx_wayfinding = w / static_cast<double>(s.wayfinding_points);
   return s;
+}
+
+std::vector<Goal> path_as_followed(const std::vector<Goal>& path, const std::vector<Pose>& run,
+                                   double start, double min_segment_length) {
+  if (path.size() != 1) return path;
+  for (const auto& p : run) {
+    if (p.t < start) continue;
+    if (std::hypot(p.north - path[0].north, p.east - path[0].east) < min_segment_length) break;
+    return {Goal{p.north, p.east, false, 0}, path[0]};
+  }
+  return path;
 }
 
 double vrx_station_keeping(const std::vector<Pose>& run, const Goal& goal, double t0, double t1) {

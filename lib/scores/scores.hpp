@@ -3,10 +3,16 @@
 //   * cross-track RMS and max (m): distance from the vehicle to the path polyline, from the
 //     start time until the path is complete (or the end of the samples);
 //   * time to complete (s), waypoints reached in order within visit_radius, and missed;
-//   * final position error (m) and heading error (rad, NaN if the goal has no heading);
+//   * final position error (m) and heading error (rad, -1 if the goal has no heading);
 //   * VRX station keeping: mean over a window of E = d + 0.75^d * h, with d the distance to the
 //     goal (m) and h the heading error in [0, pi] (0 when the goal has no heading);
-//   * VRX wayfinding: for each waypoint the minimum E over the run, averaged over waypoints.
+//   * VRX wayfinding: for each waypoint of the task the minimum E over the run, averaged over
+//     those waypoints. As in VRX, where the vehicle starts is not one of the task's waypoints:
+//     a first point within visit_radius of the pose at `start` (a path that begins where the
+//     boat is, as every mission in config/missions does) is left out of the mean; it would score
+//     about 0 and bias the mean low.
+// A one-point path is followed from where the vehicle is (guidance/path_follower.hpp): score it
+// as followed with path_as_followed().
 #pragma once
 
 #include <optional>
@@ -33,7 +39,15 @@ struct PathScores {
   double final_position_error = 0;  // m at the last sample
   double final_heading_error = -1;  // rad; -1: the goal has no heading
   double vrx_wayfinding = 0;
+  int wayfinding_points = 0;    // waypoints in the wayfinding mean
+  bool start_excluded = false;  // the first point was where the vehicle started: not scored
 };
+
+// The path as the follower follows it: a one-point path gets the vehicle's position at `start`
+// (the first pose at or after it) prepended, unless the vehicle is already at the point
+// (within min_segment_length); any other path is returned as it is.
+std::vector<Goal> path_as_followed(const std::vector<Goal>& path, const std::vector<Pose>& run,
+                                   double start, double min_segment_length = 0.05);
 
 // E = d + 0.75^d * h (VRX).
 double vrx_error(double d, double h);

@@ -118,9 +118,7 @@ RunResult run_mission(const RunConfig& c) {
   std::vector<scores::Goal> path;
   for (const auto& w : m.waypoints) path.push_back({w.north, w.east, w.has_heading, w.heading});
   // The path starts where the follower starts it: for a one-point mission, at the start pose.
-  if (path.size() == 1 && !r.poses.empty()) {
-    path.insert(path.begin(), scores::Goal{r.poses.front().north, r.poses.front().east, false, 0});
-  }
+  path = scores::path_as_followed(path, r.poses, 0.0);
   r.path = scores::score_path(r.poses, path, 0.0,
                               r.completed ? std::optional<double>(r.completed_at) : std::nullopt);
   if (r.completed) {

@@ -8,6 +8,8 @@
 namespace tiller::scores {
 namespace {
 
+constexpr double kPiForTest = 3.14159265358979323846;
+
 TEST(Scores, VrxError) {
   EXPECT_DOUBLE_EQ(vrx_error(0, 0.5), 0.5);
   EXPECT_DOUBLE_EQ(vrx_error(2, 1.0), 2 + 0.5625);
@@ -35,10 +37,53 @@ TEST(Scores, PathScoresByHand) {
   EXPECT_EQ(s.waypoints_missed, 0);
   EXPECT_DOUBLE_EQ(s.final_position_error, 0.0);
   EXPECT_NEAR(s.final_heading_error, 0.2, 1e-12);
-  // Wayfinding: first point best E = 1 (t = 0, no heading); goal best E = 0 + 0.2.
-  EXPECT_NEAR(s.vrx_wayfinding, (1.0 + 0.2) / 2, 1e-12);
+  // Wayfinding: the first point is where the boat started (1 m < the 1.5 m visit radius): not
+  // a waypoint of the task, left out; the goal's best E = 0 + 0.2.
+  EXPECT_TRUE(s.start_excluded);
+  EXPECT_EQ(s.wayfinding_points, 1);
+  EXPECT_NEAR(s.vrx_wayfinding, 0.2, 1e-12);
   // Without the follower's completion time: the time the last point was reached in order.
   EXPECT_DOUBLE_EQ(score_path(run, path, 0.0, std::nullopt, 1.5).time_to_complete, 2.0);
+}
+
+// VRX scores the task's waypoints (vehicles.md): a first point the boat does not start at is
+// one of them and is scored; one it starts at is not.
+TEST(Scores, WayfindingLeavesOutTheStartOnly) {
+  const std::vector<Goal> path{{0, 0}, {10, 0}};
+  // Starts 3 m from the first point: every point scored. Best E: 1 (t = 1), 0 (t = 2).
+  const std::vector<Pose> far{{0, -3, 0, 0}, {1, -1, 0, 0}, {2, 10, 0, 0}};
+  auto s = score_path(far, path, 0.0);
+  EXPECT_FALSE(s.start_excluded);
+  EXPECT_EQ(s.wayfinding_points, 2);
+  EXPECT_NEAR(s.vrx_wayfinding, 0.5, 1e-12);
+  // Starts at it (within the 1 m visit radius, at the time the path was given): left out.
+  const std::vector<Pose> at{{0, -3, 0, 0}, {1, 0.2, 0, 0}, {2, 9, 0, 0}};
+  s = score_path(at, path, 1.0);
+  EXPECT_TRUE(s.start_excluded);
+  EXPECT_EQ(s.wayfinding_points, 1);
+  EXPECT_NEAR(s.vrx_wayfinding, 1.0, 1e-12);
+  // A closed course: the start and the goal are the same place; the goal is still scored.
+  const std::vector<Goal> box{{0, 0}, {10, 0}, {0, 0, true, kPiForTest}};
+  const std::vector<Pose> run{{0, 0, 0, 0}, {1, 10, 0, 0}, {2, 0, 0, 0}};
+  s = score_path(run, box, 0.0);
+  EXPECT_TRUE(s.start_excluded);
+  EXPECT_EQ(s.wayfinding_points, 2);
+  EXPECT_NEAR(s.vrx_wayfinding, (0 + kPiForTest) / 2, 1e-12);  // the goal: facing north, not south
+}
+
+TEST(Scores, OnePointPathAsFollowed) {
+  const std::vector<Goal> one{{10, 2}};
+  const std::vector<Pose> run{{0, -5, -5, 0}, {1, 0, 2, 0}, {2, 5, 2, 0}};
+  auto p = path_as_followed(one, run, 0.5);  // from the first pose at or after t = 0.5
+  ASSERT_EQ(p.size(), 2u);
+  EXPECT_DOUBLE_EQ(p[0].north, 0);
+  EXPECT_DOUBLE_EQ(p[0].east, 2);
+  EXPECT_DOUBLE_EQ(p[1].north, 10);
+  const auto s = score_path(run, p, 0.5);
+  EXPECT_DOUBLE_EQ(s.cross_track_max, 0.0);  // on the line (not 10 m: the distance to the goal)
+  // Already at the point, or a longer path: unchanged.
+  EXPECT_EQ(path_as_followed(one, {{0, 10, 2, 0}}, 0).size(), 1u);
+  EXPECT_EQ(path_as_followed({{0, 0}, {1, 0}}, run, 0).size(), 2u);
 }
 
 TEST(Scores, MissedWaypointsAndNoCompletion) {
