@@ -1,9 +1,13 @@
 // tiller-mission: publishes a path from a YAML or CSV mission file (TILLER_PATH), then the
 // waypointing mode (TILLER_MODE) and an arm request (TILLER_ARM_REQUEST); repeats them every
 // --repeat-s seconds until stopped (same path_id: the follower does not restart), or once.
+// It has no config file (--config is refused): the mission file is --mission FILE.
 #include <tiller/arm_request_t.hpp>
 #include <tiller/controller_mode_t.hpp>
 
+#include <charconv>
+#include <cmath>
+#include <cstdlib>
 #include <iostream>
 
 #include "mission/mission.hpp"
@@ -22,11 +26,33 @@ int main(int argc, char** argv) {
         {"path-id", "N", "path id (default: the start time in us, so each run is a new path)", ""},
         {"repeat-s", "S", "repeat period in seconds; 0 = publish once and exit", "1"},
         {"no-arm", "", "do not send the arm request", ""}}});
+  if (!args.config.empty()) {
+    std::cerr << "tiller-mission: --config " << args.config
+              << ": tiller-mission has no config file; give the mission with --mission FILE\n";
+    return 2;
+  }
+  // Whole-string numbers only; a bad value names the flag and what was expected (exit 2).
+  const std::string& repeat_text = args.get("repeat-s");
+  char* end = nullptr;
+  const double repeat = std::strtod(repeat_text.c_str(), &end);
+  if (repeat_text.empty() || *end != '\0' || !std::isfinite(repeat) || repeat < 0) {
+    std::cerr << "tiller-mission: --repeat-s '" << repeat_text
+              << "': expected a number of seconds >= 0 (0 = publish once)\n";
+    return 2;
+  }
+  std::int64_t id = -1;
+  const std::string& id_text = args.get("path-id");
+  if (!id_text.empty()) {
+    const auto r = std::from_chars(id_text.data(), id_text.data() + id_text.size(), id);
+    if (r.ec != std::errc() || r.ptr != id_text.data() + id_text.size() || id < 0) {
+      std::cerr << "tiller-mission: --path-id '" << id_text
+                << "': expected a whole number >= 0 (int64)\n";
+      return 2;
+    }
+  }
   return app::guarded_main("tiller-mission", [&] {
     const auto m = mission::load_mission_file(args.get("mission"));
-    const double repeat = std::stod(args.get("repeat-s"));
-    const std::int64_t id =
-        args.get("path-id").empty() ? wall_time_us() : std::stoll(args.get("path-id"));
+    if (id_text.empty()) id = wall_time_us();
     std::cout << "tiller-mission: " << m.name << ": " << m.waypoints.size()
               << " waypoints, path_id " << id << "\n";
     LiveExecutor ex(args.lcm_url);

@@ -3,6 +3,9 @@
 
 #include <cstdio>
 #include <fstream>
+#include <string>
+
+#include <sys/wait.h>
 
 #include "core/angles.hpp"
 #include "mission/mission.hpp"
@@ -98,6 +101,34 @@ TEST(MissionNode, PublishesPathThenModeAndArmRequest) {
   EXPECT_EQ(order[1], channels::kMode);
   EXPECT_EQ(order[2], channels::kArmRequest);
   EXPECT_EQ(node.sent(), 2);  // at 0 s and 1 s
+}
+
+// tiller-mission's command line: a bad --repeat-s / --path-id names the flag and what was
+// expected, and --config (in every tool's help) is refused rather than ignored. All of these
+// exit before any LCM is opened.
+TEST(MissionTool, BadFlagsNameTheFlagAndTheExpectedValue) {
+  const std::pair<const char*, const char*> cases[] = {
+      {"--repeat-s abc", "--repeat-s 'abc': expected a number of seconds >= 0"},
+      {"--repeat-s -1", "--repeat-s '-1': expected a number of seconds >= 0"},
+      {"--repeat-s 1s", "--repeat-s '1s': expected a number of seconds >= 0"},
+      {"--path-id 12x", "--path-id '12x': expected a whole number >= 0"},
+      {"--path-id 99999999999999999999", "--path-id '99999999999999999999': expected a whole"},
+      {"--config config/missions/default.yaml",
+       "has no config file; give the mission with --mission"},
+  };
+  for (const auto& [flags, message] : cases) {
+    SCOPED_TRACE(flags);
+    const std::string cmd = std::string(TILLER_BIN_DIR) + "/tiller-mission " + flags + " 2>&1";
+    FILE* f = popen(cmd.c_str(), "r");
+    ASSERT_NE(f, nullptr);
+    std::string out;
+    char buf[256];
+    while (fgets(buf, sizeof buf, f)) out += buf;
+    const int status = pclose(f);
+    EXPECT_TRUE(WIFEXITED(status) && WEXITSTATUS(status) == 2) << out;
+    EXPECT_NE(out.find(message), std::string::npos) << out;
+    EXPECT_EQ(out.find("stod"), std::string::npos) << out;
+  }
 }
 
 }  // namespace
