@@ -35,6 +35,8 @@ StationKeepNode::StationKeepNode(const StationKeepNodeParams& p)
   subscribe(channels::kStationTarget, &StationKeepNode::on_target);
   subscribe(channels::kArbitration, &StationKeepNode::on_arbitration);
   subscribe(channels::kAllocationStatus, &StationKeepNode::on_allocation);
+  advertise<wrench_t>(channels::kWrenchStation);
+  advertise<pid_terms_t>(channels::kPidStation);
   nan_odometry_ = &counter("rejected.odometry.nan");
   bad_target_ = &counter("rejected.target.invalid");
 }

@@ -38,6 +38,9 @@ VelocityPidNode::VelocityPidNode(const VelocityPidNodeParams& p)
   subscribe(channels::kMode, &VelocityPidNode::on_mode);
   subscribe(channels::kPathProgress, &VelocityPidNode::on_progress);
   subscribe(channels::kAllocationStatus, &VelocityPidNode::on_allocation);
+  advertise<wrench_t>(channels::kWrenchVelocity);
+  advertise<arbitration_t>(channels::kArbitration);
+  advertise<pid_terms_t>(channels::kPidVelocity);
   nan_odometry_ = &counter("rejected.odometry.nan");
   bad_setpoint_ = &counter("rejected.setpoint.invalid");
   bad_manual_ = &counter("rejected.manual.invalid");

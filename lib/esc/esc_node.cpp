@@ -49,6 +49,10 @@ EscNode::EscNode(esc::EscNodeParams p, std::unique_ptr<esc::EscBackend> backend)
       hw_(n_, 0) {
   subscribe(channels::kThrusterCommand, &EscNode::on_command);
   subscribe(channels::kArmRequest, &EscNode::on_arm_request);
+  advertise<arm_state_t>(channels::kArmState);
+  advertise<esc_output_t>(channels::kEscOutput);
+  advertise<esc_bus_status_t>(channels::kEscStatus);
+  advertise<esc_telemetry_t>(channels::kEscTelemetry);
   c_nan_ = &counter("rejected.command.nan");
   c_range_ = &counter("rejected.command.range");
   c_missing_ = &counter("rejected.command.missing_thruster");

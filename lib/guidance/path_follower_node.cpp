@@ -24,6 +24,9 @@ PathFollowerNode::PathFollowerNode(const FollowerNodeParams& p)
   subscribe(channels::kPath, &PathFollowerNode::on_path);
   subscribe(channels::kOdometry, &PathFollowerNode::on_odometry);
   subscribe(channels::kMode, &PathFollowerNode::on_mode);
+  advertise<velocity_setpoint_t>(channels::kVelocitySetpoint);
+  advertise<path_progress_t>(channels::kPathProgress);
+  advertise<station_target_t>(channels::kStationTarget);
   nan_odometry_ = &counter("rejected.odometry.nan");
   invalid_path_ = &counter("rejected.path.invalid");
   paths_started_ = &counter("paths.started");

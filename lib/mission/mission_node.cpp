@@ -13,6 +13,9 @@ MissionNode::MissionNode(const Mission& m, std::int64_t path_id, TimeUs repeat_p
       translation_(m.is_translation),
       arm_(arm) {
   set_health(heartbeat_t::STATE_OK, "publishing " + m.name);
+  advertise<path_t>(channels::kPath);
+  advertise<controller_mode_t>(channels::kMode);
+  if (arm_) advertise<arm_request_t>(channels::kArmRequest);
 }
 
 void MissionNode::on_tick(TimeUs now) {

@@ -84,6 +84,8 @@ MixerNode::MixerNode(const MixerParams& params, const Vehicle& vehicle)
   subscribe(channels::kWrenchStation, &MixerNode::on_wrench_station);
   subscribe(channels::kArbitration, &MixerNode::on_arbitration);
   subscribe(channels::kArmState, &MixerNode::on_arm_state);
+  advertise<thruster_command_t>(channels::kThrusterCommand);
+  advertise<allocation_status_t>(channels::kAllocationStatus);
   rej_manual_ = &counter("rejected.manual_demand.range");
   rej_wrench_ = &counter("rejected.wrench.range");
   rej_arb_ = &counter("rejected.arbitration.source");

@@ -3,11 +3,13 @@
 #include <algorithm>
 #include <cmath>
 #include <cstdio>
+#include <string_view>
 
 #include <tiller/arm_request_t.hpp>
 #include <tiller/heartbeat_t.hpp>
 
 #include "core/angles.hpp"
+#include "core/message_checks.hpp"
 #include "runtime/channels.hpp"
 
 namespace tiller {
@@ -39,6 +41,11 @@ TeleopNode::TeleopNode(TeleopParams params, Input input)
   if (input_ == Input::replay) subscribe(channels::kJoystick, &TeleopNode::on_joystick);
   subscribe(channels::kOdometry, &TeleopNode::on_odometry);
   subscribe(channels::kArmState, &TeleopNode::on_arm_state);
+  if (input_ == Input::device) advertise<joystick_state_t>(channels::kJoystick);
+  advertise<manual_demand_t>(channels::kManualDemand);
+  advertise<manual_velocity_cmd_t>(channels::kManualVelocity);
+  advertise<controller_mode_t>(channels::kMode);
+  advertise<arm_request_t>(channels::kArmRequest);
   rejected_state_ = &counter("rejected.joystick.malformed");
   rejected_odom_ = &counter("rejected.odometry.nan");
   disconnects_ = &counter("joystick.disconnects");
@@ -62,12 +69,18 @@ void TeleopNode::on_joystick(const joystick_state_t& s, TimeUs now) {
 }
 
 void TeleopNode::on_odometry(const odometry_t& o, TimeUs now) {
-  const double yaw = o.orientation[2];
-  if (!std::isfinite(yaw)) {
-    reject(*rejected_odom_);
+  // The whole message is checked against its contract (core/message_checks.hpp), not only the
+  // yaw: non-finite values count under rejected.odometry.nan, the rest under .range.
+  if (const char* why = checks::check(o)) {
+    if (std::string_view(why).ends_with(".nan")) {
+      reject(*rejected_odom_);
+    } else {
+      if (!rejected_odom_range_) rejected_odom_range_ = &counter("rejected.odometry.range");
+      reject(*rejected_odom_range_);
+    }
     return;
   }
-  heading_ = wrap_pi(yaw);
+  heading_ = o.orientation[2];  // in (-pi, pi] by the check
   odom_fresh_.mark(now);
 }
 

@@ -100,6 +100,7 @@ class TeleopNode : public Node {
   manual_velocity_cmd_t velocity_msg_;
   std::int64_t* rejected_state_;
   std::int64_t* rejected_odom_;
+  std::int64_t* rejected_odom_range_ = nullptr;  // created on first use
   std::int64_t* disconnects_;
   std::int64_t* presses_;
   std::int64_t* bounces_;

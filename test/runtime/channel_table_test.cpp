@@ -1,0 +1,236 @@
+// The README's channel table against the nodes themselves: each program's node is built from
+// its default config, and what it declares (subscribe<Msg>() and advertise<Msg>()) must be
+// exactly what the table says, type included. Table rule (README, "Channels"): a cell of the
+// "published by" or "listened to by" columns names programs as `tiller-<name>` in backticks;
+// other words there (logs, plots, spy, `--replay`) are free text. Every channel a node declares has
+// a row.
+#include <gtest/gtest.h>
+
+#include <fstream>
+#include <map>
+#include <memory>
+#include <regex>
+#include <set>
+#include <sstream>
+#include <string>
+#include <vector>
+
+#include "control/control_config.hpp"
+#include "control/station_keep_node.hpp"
+#include "control/velocity_pid_node.hpp"
+#include "core/config.hpp"
+#include "esc/esc_node.hpp"
+#include "guidance/follower_config.hpp"
+#include "guidance/path_follower_node.hpp"
+#include "mission/mission.hpp"
+#include "mission/mission_node.hpp"
+#include "mixer/mixer_node.hpp"
+#include "runtime/channels.hpp"
+#include "sim/sim_node.hpp"
+#include "teleop/teleop_node.hpp"
+#include "teleop/teleop_params.hpp"
+
+namespace tiller {
+namespace {
+
+const std::string kRoot = TILLER_SOURCE_DIR;
+
+struct Row {
+  std::vector<std::string> channels;
+  std::string type;
+  std::set<std::string> publishers, listeners;  // `tiller-...` names
+  int line = 0;
+};
+
+std::vector<std::string> backticked(const std::string& cell) {
+  std::vector<std::string> out;
+  static const std::regex re("`([^`]+)`");
+  for (auto it = std::sregex_iterator(cell.begin(), cell.end(), re); it != std::sregex_iterator();
+       ++it)
+    out.push_back((*it)[1]);
+  return out;
+}
+
+std::vector<std::string> split_cells(const std::string& line) {
+  std::vector<std::string> cells;
+  std::string cur;
+  for (std::size_t i = 1; i < line.size(); ++i) {
+    if (line[i] == '|') {
+      cells.push_back(cur);
+      cur.clear();
+    } else {
+      cur += line[i];
+    }
+  }
+  return cells;
+}
+
+std::vector<Row> read_table() {
+  std::ifstream in(kRoot + "/README.md");
+  EXPECT_TRUE(in) << "cannot open README.md";
+  std::vector<Row> rows;
+  std::string line;
+  bool in_section = false;
+  int n = 0;
+  while (std::getline(in, line)) {
+    ++n;
+    if (line.rfind("## ", 0) == 0) in_section = line == "## Channels";
+    if (!in_section || line.rfind("| `", 0) != 0) continue;
+    const auto cells = split_cells(line);
+    EXPECT_EQ(cells.size(), 4u) << "README.md:" << n << ": expected 4 cells";
+    if (cells.size() != 4) continue;
+    Row r;
+    r.line = n;
+    r.channels = backticked(cells[0]);
+    const auto types = backticked(cells[1]);
+    EXPECT_EQ(types.size(), 1u) << "README.md:" << n << ": one type per row";
+    if (!types.empty()) r.type = types[0];
+    auto program = [](const std::string& w) {
+      return w.rfind("tiller-", 0) == 0 || w.rfind("lcm-", 0) == 0;
+    };
+    for (const auto& p : backticked(cells[2]))
+      if (program(p)) r.publishers.insert(p);
+    for (const auto& p : backticked(cells[3]))
+      if (program(p)) r.listeners.insert(p);
+    rows.push_back(r);
+  }
+  return rows;
+}
+
+struct Program {
+  std::string name;                          // tiller-<name>
+  std::vector<std::unique_ptr<Node>> nodes;  // every mode of the program
+};
+
+std::vector<Program> programs() {
+  std::vector<Program> out;
+  auto add = [&](const std::string& name, std::unique_ptr<Node> n) {
+    for (auto& p : out) {
+      if (p.name == name) {
+        p.nodes.push_back(std::move(n));
+        return;
+      }
+    }
+    Program p;
+    p.name = name;
+    p.nodes.push_back(std::move(n));
+    out.push_back(std::move(p));
+  };
+  const auto control = config::Value::load_file(kRoot + "/config/control/otter.yaml");
+  add("tiller-velocity-pid",
+      std::make_unique<control::VelocityPidNode>(control::load_velocity_pid_node_params(control)));
+  add("tiller-station-keep",
+      std::make_unique<control::StationKeepNode>(control::load_station_keep_node_params(control)));
+  const auto guidance = config::Value::load_file(kRoot + "/config/guidance/default.yaml");
+  add("tiller-path-follower",
+      std::make_unique<guidance::PathFollowerNode>(guidance::load_follower_node_params(guidance)));
+  add("tiller-mixer", std::make_unique<MixerNode>(kRoot + "/config/mixer/otter.yaml"));
+  add("tiller-esc", std::make_unique<EscNode>(kRoot + "/config/esc/seed000_sim.yaml"));
+  add("tiller-sim", std::make_unique<SimNode>(kRoot + "/config/sim/sim.yaml"));
+  const auto teleop = load_teleop_file(kRoot + "/config/teleop/extreme3dpro_seed000.yaml");
+  add("tiller-teleop", std::make_unique<TeleopNode>(teleop, TeleopNode::Input::device));
+  add("tiller-teleop", std::make_unique<TeleopNode>(teleop, TeleopNode::Input::replay));
+  const auto m = mission::load_mission_file(kRoot + "/config/missions/default.yaml");
+  add("tiller-mission", std::make_unique<mission::MissionNode>(m, 1, kUsPerSecond));
+  return out;
+}
+
+// Programs that are not nodes but may be named in the table.
+const std::set<std::string> kTools = {"tiller-log",    "tiller-score",  "tiller-plot",
+                                      "tiller-replay", "tiller-launch", "lcm-logger",
+                                      "lcm-spy"};
+
+TEST(ChannelTable, ReadmeMatchesWhatEveryNodeDeclares) {
+  const auto rows = read_table();
+  ASSERT_GT(rows.size(), 15u) << "no channel table found under '## Channels' in README.md";
+  const auto progs = programs();
+  std::set<std::string> names;
+  for (const auto& p : progs) names.insert(p.name);
+
+  // Every name in the table is a program the test knows.
+  for (const auto& r : rows) {
+    for (const auto* set : {&r.publishers, &r.listeners}) {
+      for (const auto& n : *set) {
+        EXPECT_TRUE(names.count(n) || kTools.count(n))
+            << "README.md:" << r.line << ": unknown program `" << n << "`";
+      }
+    }
+  }
+
+  std::map<std::string, const Row*> by_channel;
+  for (const auto& r : rows)
+    for (const auto& c : r.channels) by_channel[c] = &r;
+
+  for (const auto& p : progs) {
+    std::set<std::string> pubs, subs;
+    for (const auto& n : p.nodes) {
+      for (const auto& c : n->published_channels()) {
+        if (c == n->heartbeat_channel()) continue;  // the TILLER_HEARTBEAT_<PROCESS> row
+        pubs.insert(c);
+        const auto it = by_channel.find(c);
+        if (it == by_channel.end()) continue;
+        EXPECT_EQ(it->second->type, n->published_type(c)) << "README.md:" << it->second->line;
+      }
+      for (const auto& c : n->subscribed_channels()) {
+        subs.insert(c);
+        const auto it = by_channel.find(c);
+        if (it == by_channel.end()) continue;
+        EXPECT_EQ(it->second->type, n->subscribed_type(c)) << "README.md:" << it->second->line;
+      }
+      EXPECT_EQ(n->heartbeat_channel().rfind(channels::kHeartbeatPrefix, 0), 0u);
+    }
+    for (const auto& c : pubs) {
+      const auto it = by_channel.find(c);
+      ASSERT_NE(it, by_channel.end()) << p.name << " publishes " << c << ": no row in README";
+      EXPECT_TRUE(it->second->publishers.count(p.name))
+          << "README.md:" << it->second->line << ": " << c << ": `" << p.name
+          << "` publishes it but is not in 'published by'";
+    }
+    for (const auto& c : subs) {
+      const auto it = by_channel.find(c);
+      ASSERT_NE(it, by_channel.end()) << p.name << " listens to " << c << ": no row in README";
+      EXPECT_TRUE(it->second->listeners.count(p.name))
+          << "README.md:" << it->second->line << ": " << c << ": `" << p.name
+          << "` listens to it but is not in 'listened to by'";
+    }
+    for (const auto& r : rows) {
+      for (const auto& c : r.channels) {
+        if (r.publishers.count(p.name)) {
+          EXPECT_TRUE(pubs.count(c)) << "README.md:" << r.line << ": " << c << ": `" << p.name
+                                     << "` is listed as a publisher but does not advertise it";
+        }
+        if (r.listeners.count(p.name)) {
+          EXPECT_TRUE(subs.count(c)) << "README.md:" << r.line << ": " << c << ": `" << p.name
+                                     << "` is listed as a listener but does not subscribe";
+        }
+      }
+    }
+  }
+  EXPECT_TRUE(by_channel.count(std::string(channels::kHeartbeatPrefix) + "<PROCESS>"));
+}
+
+// Publishing on a channel that was never advertised is counted (and still published).
+class Sloppy : public Node {
+ public:
+  Sloppy() : Node("sloppy", 1000) { advertise<heartbeat_t>("DECLARED"); }
+  void on_tick(TimeUs now) override {
+    heartbeat_t h{};
+    h.utime = now;
+    publish("DECLARED", h);
+    publish("UNDECLARED", h);
+  }
+};
+
+TEST(ChannelTable, UnadvertisedPublishIsCounted) {
+  Sloppy s;
+  s.tick(0);
+  s.tick(1000);
+  EXPECT_EQ(s.counter_value("unadvertised.UNDECLARED"), 2);
+  EXPECT_EQ(s.counter_value("unadvertised.DECLARED"), 0);
+  EXPECT_EQ(s.published_channels(),
+            (std::vector<std::string>{"DECLARED", "TILLER_HEARTBEAT_SLOPPY"}));
+  EXPECT_EQ(s.published_type("DECLARED"), "heartbeat_t");
+}
+
+}  // namespace
+}  // namespace tiller
