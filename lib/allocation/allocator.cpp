@@ -130,6 +130,15 @@ Allocator::Allocator(const Vehicle& vehicle)
     } else {
       g.pinv.resize(static_cast<Eigen::Index>(g.idx.size()), 0);
     }
+    g.null_dim = static_cast<int>(g.idx.size()) - static_cast<int>(g.axes.size());
+    if (g.null_dim > 0) {
+      std::array<double, kMaxThrusters> glo{}, ghi{};
+      for (std::size_t k = 0; k < g.idx.size(); ++k) {
+        glo[k] = lo_[static_cast<std::size_t>(g.idx[k])];
+        ghi[k] = hi_[static_cast<std::size_t>(g.idx[k])];
+      }
+      g.lp = make_lp(rows_cols(b_full_, g.axes, g.idx), glo, ghi);
+    }
     for (const auto& level : vehicle.allocation.priority) {
       std::vector<int> pos;
       for (int ax : level)
@@ -155,6 +164,21 @@ Allocator::Allocator(const Vehicle& vehicle)
         }
       }
       axis_max_[static_cast<std::size_t>(s)][static_cast<std::size_t>(ax)] = m;
+    }
+  }
+  // With spare thrusters, the pseudo-inverse pattern is not the largest: the same LP as the
+  // allocation, over every actuated axis and every thruster (other actuated axes held at 0).
+  if (n_ > static_cast<int>(actuated.size())) {
+    const Lp whole = make_lp(rows_cols(b_full_, actuated, cols), lo_, hi_);
+    const ThrustVec zero = ThrustVec::Zero(n_);
+    ThrustVec f(n_);
+    for (std::size_t k = 0; k < actuated.size(); ++k) {
+      for (int s = 0; s < 2; ++s) {
+        Small d = Small::Zero(static_cast<Eigen::Index>(actuated.size()));
+        d(static_cast<Eigen::Index>(k)) = s == 0 ? 1.0 : -1.0;
+        axis_max_[static_cast<std::size_t>(s)][static_cast<std::size_t>(actuated[k])] =
+            lp_max_scale(whole, zero, d, kInf, f);
+      }
     }
   }
   // Explicit mixing matrix.
@@ -225,6 +249,198 @@ double Allocator::max_scale(const Group& g, const ThrustVec& a, const ThrustVec&
   return std::max(mu, 0.0);
 }
 
+Allocator::Lp Allocator::make_lp(const Eigen::MatrixXd& a,
+                                 const std::array<double, kMaxThrusters>& lo,
+                                 const std::array<double, kMaxThrusters>& hi) {
+  Lp lp;
+  lp.m = static_cast<int>(a.rows());
+  lp.n = static_cast<int>(a.cols());
+  lp.lo = lo;
+  lp.hi = hi;
+  // Starting basis: the first columns that add rank (A has full row rank by construction).
+  std::vector<int> cols;
+  for (int j = 0; j < lp.n && static_cast<int>(cols.size()) < lp.m; ++j) {
+    std::vector<int> trial = cols;
+    trial.push_back(j);
+    std::vector<int> rows(static_cast<std::size_t>(lp.m));
+    for (int r = 0; r < lp.m; ++r) rows[static_cast<std::size_t>(r)] = r;
+    if (rank_of(rows_cols(a, rows, trial)) > static_cast<int>(cols.size())) cols = trial;
+  }
+  if (static_cast<int>(cols.size()) != lp.m)
+    throw std::logic_error("allocation LP: rows of the effectiveness matrix are dependent");
+  Eigen::MatrixXd ab(lp.m, lp.m);
+  for (int k = 0; k < lp.m; ++k) {
+    lp.basis[static_cast<std::size_t>(k)] = cols[static_cast<std::size_t>(k)];
+    ab.col(k) = a.col(cols[static_cast<std::size_t>(k)]);
+  }
+  const Eigen::MatrixXd inv = ab.fullPivLu().inverse();
+  const Eigen::MatrixXd t0 = inv * a;
+  for (int r = 0; r < lp.m; ++r) {
+    const auto rr = static_cast<std::size_t>(r);
+    for (int k = 0; k < lp.m; ++k) lp.binv0[rr][static_cast<std::size_t>(k)] = inv(r, k);
+    for (int j = 0; j < lp.n; ++j) lp.t0[rr][static_cast<std::size_t>(j)] = t0(r, j);
+    for (int k = 0; k < lp.m; ++k)  // exact identity on the basis columns
+      lp.t0[rr][static_cast<std::size_t>(cols[static_cast<std::size_t>(k)])] = r == k ? 1 : 0;
+  }
+  return lp;
+}
+
+// Bounded primal simplex on the tableau of [A | -d/|d|] (m <= 6 rows, n + 1 <= 17 columns,
+// fixed-size arrays). Start: f0 (nonbasic values anywhere within their bounds) and mu = 0; the
+// basic variables are f0's own values since A f0 = A f0. Bland's rule (smallest index enters,
+// smallest index leaves among ties) rules out cycling; every step keeps the point feasible.
+double Allocator::lp_max_scale(const Lp& lp, const ThrustVec& f0, const Small& d, double cap,
+                               ThrustVec& f) {
+  constexpr double kEps = 1e-10, kPiv = 1e-9, kTol = 1e-9;
+  constexpr int kCols = kMaxThrusters + 1;
+  const int m = lp.m, n = lp.n, mu = n;
+  double dn2 = 0;
+  for (int k = 0; k < m; ++k) dn2 += d(k) * d(k);
+  if (!(dn2 > 0)) {
+    f = f0;
+    return cap;
+  }
+  const double dn = std::sqrt(dn2);
+  double t[6][kCols];
+  double x[kCols], lo[kCols], hi[kCols];
+  int basic[6];
+  bool is_basic[kCols] = {};
+  for (int i = 0; i < m; ++i) {
+    const auto ii = static_cast<std::size_t>(i);
+    for (int j = 0; j < n; ++j) t[i][j] = lp.t0[ii][static_cast<std::size_t>(j)];
+    double c = 0;
+    for (int k = 0; k < m; ++k) c += lp.binv0[ii][static_cast<std::size_t>(k)] * d(k);
+    t[i][mu] = -c / dn;
+    basic[i] = lp.basis[ii];
+    is_basic[basic[i]] = true;
+  }
+  for (int j = 0; j < n; ++j) {
+    x[j] = f0(j);
+    lo[j] = lp.lo[static_cast<std::size_t>(j)];
+    hi[j] = lp.hi[static_cast<std::size_t>(j)];
+  }
+  x[mu] = 0;
+  lo[mu] = 0;
+  hi[mu] = cap * dn;
+  int mu_row = -1;
+  bool unbounded = false;
+  for (int iter = 0; iter < 8 * kCols; ++iter) {
+    // Entering: smallest index whose move raises mu (mu itself while it is nonbasic).
+    int enter = -1;
+    double s = 0;
+    if (mu_row < 0) {
+      if (x[mu] < hi[mu] - kTol) {
+        enter = mu;
+        s = 1;
+      }
+    } else {
+      const double* row = t[mu_row];
+      for (int j = 0; j < n; ++j) {
+        if (is_basic[j]) continue;
+        const double r = -row[j];
+        if (r > kEps && x[j] < hi[j] - kTol) {
+          enter = j;
+          s = 1;
+          break;
+        }
+        if (r < -kEps && x[j] > lo[j] + kTol) {
+          enter = j;
+          s = -1;
+          break;
+        }
+      }
+    }
+    if (enter < 0) break;  // optimal
+    double step = s > 0 ? hi[enter] - x[enter] : x[enter] - lo[enter];
+    int leave = -1;
+    for (int i = 0; i < m; ++i) {
+      const double alpha = s * t[i][enter];  // x[basic[i]] changes by -alpha per unit step
+      const int b = basic[i];
+      double lim;
+      if (alpha > kPiv)
+        lim = (x[b] - lo[b]) / alpha;
+      else if (alpha < -kPiv)
+        lim = (hi[b] - x[b]) / -alpha;
+      else
+        continue;
+      lim = std::max(lim, 0.0);
+      if (lim < step || (lim == step && leave >= 0 && b < basic[leave])) {
+        step = lim;
+        leave = i;
+      }
+    }
+    if (!std::isfinite(step)) {  // unbounded along d (cap = inf)
+      unbounded = true;
+      break;
+    }
+    x[enter] += s * step;
+    for (int i = 0; i < m; ++i) x[basic[i]] -= s * t[i][enter] * step;
+    if (leave < 0) {  // the entering variable reached its own other bound
+      x[enter] = s > 0 ? hi[enter] : lo[enter];
+      continue;
+    }
+    const int b = basic[leave];
+    x[b] = s * t[leave][enter] > 0 ? lo[b] : hi[b];
+    const double inv = 1.0 / t[leave][enter];
+    double* prow = t[leave];
+    for (int j = 0; j <= n; ++j) prow[j] *= inv;
+    prow[enter] = 1.0;
+    for (int i = 0; i < m; ++i) {
+      if (i == leave) continue;
+      const double c = t[i][enter];
+      if (c == 0.0) continue;
+      for (int j = 0; j <= n; ++j) t[i][j] -= c * prow[j];
+      t[i][enter] = 0.0;
+    }
+    is_basic[b] = false;
+    is_basic[enter] = true;
+    basic[leave] = enter;
+    if (enter == mu)
+      mu_row = leave;
+    else if (b == mu)
+      mu_row = -1;
+  }
+  f.resize(n);
+  for (int j = 0; j < n; ++j) f(j) = std::clamp(x[j], lo[j], hi[j]);
+  if (unbounded) return kInf;
+  return std::min(cap, x[mu] / dn);
+}
+
+bool Allocator::feasible_start(const Group& g, const ThrustVec& b, ThrustVec& f0) const {
+  f0 = b;
+  bool fits = true;
+  for (std::size_t k = 0; k < g.idx.size(); ++k) {
+    const auto kk = static_cast<Eigen::Index>(k);
+    f0(kk) = std::clamp(b(kk), g.lp.lo[k], g.lp.hi[k]);
+    fits = fits && f0(kk) == b(kk);
+  }
+  if (fits) return true;
+  // Phase 1 with the same solver: from the clipped point toward b's wrench.
+  const auto na = static_cast<Eigen::Index>(g.axes.size());
+  Small d = Small::Zero(na);
+  for (Eigen::Index r = 0; r < na; ++r)
+    for (std::size_t k = 0; k < g.idx.size(); ++k)
+      d(r) += g.rows(r, g.idx[k]) *
+              (b(static_cast<Eigen::Index>(k)) - f0(static_cast<Eigen::Index>(k)));
+  ThrustVec f;
+  const double reach = lp_max_scale(g.lp, f0, d, 1.0, f);
+  if (reach < 1.0 - 1e-9) return false;
+  f0 = f;
+  return true;
+}
+
+void Allocator::toward_feasible(const Group& g, const ThrustVec& f_mn, ThrustVec& f_v) const {
+  double t = 0;
+  for (std::size_t k = 0; k < g.idx.size(); ++k) {
+    const auto kk = static_cast<Eigen::Index>(k);
+    const double a = f_mn(kk), v = f_v(kk);
+    if (a > g.lp.hi[k] && a > v) t = std::max(t, (a - g.lp.hi[k]) / (a - v));
+    if (a < g.lp.lo[k] && a < v) t = std::max(t, (g.lp.lo[k] - a) / (v - a));
+  }
+  t = std::min(t, 1.0);
+  f_v = f_mn + t * (f_v - f_mn);
+}
+
 void Allocator::clamp_group(const Group& g, ThrustVec& f) const {
   for (std::size_t k = 0; k < g.idx.size(); ++k) {
     const auto i = static_cast<std::size_t>(g.idx[k]);
@@ -283,6 +499,16 @@ bool Allocator::allocate(const Wrench& tau, AllocationResult& out) const {
     switch (strategy_) {
       case Strategy::kDirectionPreserving: {
         const ThrustVec a = g.pinv * target;
+        ThrustVec f0;
+        if (g.null_dim > 0 && max_scale(g, a, b) < 1.0 && feasible_start(g, b, f0)) {
+          // Spare thrusters: the largest scale over the whole null space, not only along the
+          // minimum-norm pattern; then the point nearest the minimum-norm one on the way there.
+          double mu = lp_max_scale(g.lp, f0, target, 1.0, fg);
+          if (mu > 1.0 - 1e-12) mu = 1.0;
+          toward_feasible(g, mu * a + b, fg);
+          out.scale = std::min(out.scale, mu);
+          break;
+        }
         const double mu = max_scale(g, a, b);
         if (mu < 0) {  // cannot even compensate: clip (reported through the status)
           fg = a + b;
@@ -305,23 +531,67 @@ bool Allocator::allocate(const Wrench& tau, AllocationResult& out) const {
         // makes only its own axes (B * pinv = I), so later passes can give an earlier level
         // room that a later level freed, without touching what the others got.
         fg = b;
-        if (max_scale(g, ThrustVec::Zero(b.size()), b) < 0) clamp_group(g, fg);
         Small left = target;
-        for (int pass = 0; pass < 4; ++pass) {
-          bool progress = false;
-          for (const auto& level : g.levels) {
-            Small part = Small::Zero(na);
-            for (int k : level) part(k) = left(k);
-            if (part.cwiseAbs().maxCoeff() <= 0.0) continue;
-            const ThrustVec v = g.pinv * part;
-            const double alpha = std::min(1.0, max_scale(g, v, fg));
-            if (alpha > 1e-12) {
-              fg += alpha * v;
-              for (int k : level) left(k) *= 1.0 - alpha;
-              progress = true;
+        ThrustVec f0;
+        if (g.null_dim > 0 && feasible_start(g, b, f0)) {
+          // Spare thrusters: each level takes what the whole null space allows, with every other
+          // axis held where it is (earlier levels at what they got, later ones so far).
+          fg = f0;
+          Small got = Small::Zero(na);
+          ThrustVec fv;
+          // A level is solved again only if another level moved since it was last solved.
+          std::array<int, 6> solved_at;
+          solved_at.fill(-1);
+          int changes = 0;
+          for (int pass = 0; pass < 4; ++pass) {
+            bool progress = false;
+            for (std::size_t li = 0; li < g.levels.size(); ++li) {
+              const auto& level = g.levels[li];
+              Small part = Small::Zero(na);
+              for (int k : level) part(k) = left(k);
+              if (part.cwiseAbs().maxCoeff() <= 0.0 || solved_at[li] == changes) continue;
+              const ThrustVec v = g.pinv * part;
+              double alpha;
+              if (max_scale(g, v, fg) >= 1.0) {  // fits along the minimum-norm pattern
+                alpha = 1.0;
+                fv = fg + v;
+              } else {
+                alpha = lp_max_scale(g.lp, fg, part, 1.0, fv);
+                if (alpha > 1.0 - 1e-12) alpha = 1.0;
+              }
+              solved_at[li] = changes;
+              if (alpha > 1e-12) {
+                ++changes;
+                solved_at[li] = changes;
+                fg = fv;
+                for (int k : level) {
+                  got(k) += alpha * part(k);
+                  left(k) = alpha == 1.0 ? 0.0 : left(k) * (1.0 - alpha);
+                }
+                progress = true;
+              }
             }
+            if (!progress) break;
           }
-          if (!progress) break;
+          toward_feasible(g, g.pinv * got + b, fg);
+        } else {
+          if (max_scale(g, ThrustVec::Zero(b.size()), b) < 0) clamp_group(g, fg);
+          for (int pass = 0; pass < 4; ++pass) {
+            bool progress = false;
+            for (const auto& level : g.levels) {
+              Small part = Small::Zero(na);
+              for (int k : level) part(k) = left(k);
+              if (part.cwiseAbs().maxCoeff() <= 0.0) continue;
+              const ThrustVec v = g.pinv * part;
+              const double alpha = std::min(1.0, max_scale(g, v, fg));
+              if (alpha > 1e-12) {
+                fg += alpha * v;
+                for (int k : level) left(k) *= 1.0 - alpha;
+                progress = true;
+              }
+            }
+            if (!progress) break;
+          }
         }
         for (const auto& level : g.levels) {
           double l2 = 0, t2 = 0;
@@ -381,7 +651,18 @@ bool Allocator::allocate_manual(const Wrench& stick, AllocationResult& out) cons
       }
       const ThrustVec a = g.pinv * d;
       double mu = max_scale(g, a, b);
-      if (mu < 0) {
+      ThrustVec f0, fv;
+      if (g.null_dim > 0 && feasible_start(g, b, f0)) {
+        // Spare thrusters: the largest achievable along d over the whole null space (mu), then
+        // the stick's fraction m of it: the minimum-norm point when it fits, else the nearest
+        // to it on the way to m * (optimum) + (1 - m) * (start), which solves the same.
+        mu = lp_max_scale(g.lp, f0, d, kInf, fv);
+        if (!std::isfinite(mu)) mu = 0;
+        fg = (m * mu) * a + b;
+        ThrustVec mix = m * fv + (1.0 - m) * f0;
+        toward_feasible(g, fg, mix);
+        fg = mix;
+      } else if (mu < 0) {
         fg = m * a + b;
         clamp_group(g, fg);
         out.scale = 0.0;

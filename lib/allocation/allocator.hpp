@@ -21,6 +21,15 @@
 //   prioritised           per group, axis levels in the configured order are added one by one,
 //                         each as far as the remaining room allows: earlier levels are met
 //                         exactly whenever they fit on their own;
+//   Spare thrusters: when a group has more thrusters than owned axes (null space: X drive,
+//   H drive, the 4-thruster ROV), "largest" is over every thrust that makes the wrench, not
+//   only the minimum-norm (pseudo-inverse) pattern: a small bounded simplex (lp_max_scale,
+//   fixed-size arrays, <= 6 rows, <= 17 columns) maximises mu with lo <= f <= hi and
+//   B_g f = B_g f0 + mu d. The returned thrust is the minimum-norm one whenever that fits (so
+//   the unsaturated path, and every group without spare thrusters, e.g. the Otter and WAM-V,
+//   are the pseudo-inverse bit for bit), else the first point within limits on the segment
+//   from the minimum-norm solution toward the LP's vertex. The same solver gives axis_max()
+//   and, per level, the prioritised allocation.
 //   clip                  unconstrained solution clipped per thruster (for comparison only).
 // Explicit-matrix vehicles (seed tables): s = M * tau_norm with tau_norm_j = tau_j /
 // full_scale_j (full_scale: the wrench one unit of axis j gives, from the geometry); thrust_i =
@@ -31,7 +40,8 @@
 // Manual open-loop demand (allocate_manual): seed 000's two conditions, per group: the achieved
 // wrench on the group's axes points along the stick vector J (each axis weighted by its own
 // largest achievable value in that sign), and its size over the largest achievable in that
-// direction equals |J| over the largest stick vector in that direction (= max_k |J_k|).
+// direction (the true largest, null space included) equals |J| over the largest stick vector
+// in that direction (= max_k |J_k|).
 #pragma once
 
 #include <array>
@@ -104,6 +114,15 @@ class Allocator {
   using Small = Eigen::Matrix<double, Eigen::Dynamic, 1, 0, 6, 1>;
   using RowsB = Eigen::Matrix<double, Eigen::Dynamic, Eigen::Dynamic, 0, 6, kMaxThrusters>;
   using PInv = Eigen::Matrix<double, Eigen::Dynamic, Eigen::Dynamic, 0, kMaxThrusters, 6>;
+  // A small bounded LP, set up when the vehicle is loaded: rows A (m x n, full row rank m <= 6,
+  // n <= 16), an invertible starting set of m columns, its inverse, and the bounds.
+  struct Lp {
+    int m = 0, n = 0;
+    std::array<int, 6> basis{};                                 // starting basis (columns of A)
+    std::array<std::array<double, kMaxThrusters + 1>, 6> t0{};  // inverse(A[:, basis]) * A
+    std::array<std::array<double, 6>, 6> binv0{};               // inverse(A[:, basis])
+    std::array<double, kMaxThrusters> lo{}, hi{};
+  };
   struct Group {
     std::string name;
     std::vector<int> idx;                  // thruster indices
@@ -111,11 +130,25 @@ class Allocator {
     RowsB rows;                            // B[axes, all thrusters]
     PInv pinv;                             // pinv(B[axes, idx]): idx.size() x axes.size()
     std::vector<std::vector<int>> levels;  // prioritised: positions into `axes`, by level
+    int null_dim = 0;  // idx.size() - axes.size(): spare thrusters (0: the pseudo-inverse is all)
+    Lp lp;             // over B[axes, idx], used only when null_dim > 0
   };
 
   // Max mu >= 0 with lo <= mu*a + b <= hi over group g; -1 if mu = 0 is infeasible;
   // +inf if unbounded.
   double max_scale(const Group& g, const ThrustVec& a, const ThrustVec& b) const;
+  // Null space included: max mu in [0, cap] such that some f with lo <= f <= hi has
+  // A f = A f0 + mu d (f0 feasible); f = an optimal point (a vertex). +inf if unbounded.
+  static double lp_max_scale(const Lp& lp, const ThrustVec& f0, const Small& d, double cap,
+                             ThrustVec& f);
+  static Lp make_lp(const Eigen::MatrixXd& a, const std::array<double, kMaxThrusters>& lo,
+                    const std::array<double, kMaxThrusters>& hi);
+  // A feasible f for group g with B_g f = B_g b (b: the minimum-norm compensation); false if
+  // there is none.
+  bool feasible_start(const Group& g, const ThrustVec& b, ThrustVec& f0) const;
+  // Among points solving the same equations, from the minimum-norm f_mn toward the feasible
+  // f_v, the first one within limits (f_mn itself when it fits).
+  void toward_feasible(const Group& g, const ThrustVec& f_mn, ThrustVec& f_v) const;
   void clamp_group(const Group& g, ThrustVec& f) const;
   bool finish(ThrustVec& thrust, AllocationResult& out) const;
   void allocate_matrix(const Wrench& tau_norm, AllocationResult& out) const;

@@ -1,9 +1,13 @@
 // Helpers for the allocation tests: preset loading and seeded random wrenches.
 #pragma once
 
+#include <array>
+#include <limits>
 #include <random>
 #include <string>
 #include <vector>
+
+#include <Eigen/Dense>
 
 #include "allocation/allocator.hpp"
 #include "vehicle/vehicle.hpp"
@@ -29,6 +33,63 @@ inline Wrench random_wrench(const Allocator& a, std::mt19937& rng, double size) 
     if (!a.unactuated()[static_cast<std::size_t>(ax)])
       w(ax) = size * u(rng) * std::max(a.axis_max(ax, 1), a.axis_max(ax, -1));
   return w;
+}
+
+// Independent of the allocator: the largest mu >= 0 such that some thrust f within every
+// thruster's own limits makes B f = mu * w on every actuated axis (other actuated axes 0), by
+// vertex enumeration. With n thrusters and m actuated axes the optimum sits where n - m + 1
+// thrusters are at a limit; for each such choice the m remaining unknowns (m - 1 thrusts and
+// mu) follow from the m equations. Returns +inf if w is 0 on the actuated axes.
+inline double brute_max_scale(const Vehicle& v, const std::array<bool, 6>& unactuated,
+                              const Wrench& w) {
+  std::vector<int> rows;
+  for (int ax = 0; ax < 6; ++ax)
+    if (!unactuated[static_cast<std::size_t>(ax)]) rows.push_back(ax);
+  const int m = static_cast<int>(rows.size()), n = v.size(), fixed = n - m + 1;
+  const Eigen::MatrixXd b_full = v.effectiveness();
+  Eigen::MatrixXd b(m, n);
+  Eigen::VectorXd wr(m);
+  for (int r = 0; r < m; ++r) {
+    b.row(r) = b_full.row(rows[static_cast<std::size_t>(r)]);
+    wr(r) = w(rows[static_cast<std::size_t>(r)]);
+  }
+  if (wr.norm() == 0) return std::numeric_limits<double>::infinity();
+  std::vector<double> lo(static_cast<std::size_t>(n)), hi(static_cast<std::size_t>(n));
+  for (int i = 0; i < n; ++i) {
+    lo[static_cast<std::size_t>(i)] = v.thrusters[static_cast<std::size_t>(i)].thrust_min();
+    hi[static_cast<std::size_t>(i)] = v.thrusters[static_cast<std::size_t>(i)].thrust_max();
+  }
+  double best = -1;
+  for (unsigned mask = 0; mask < (1u << n); ++mask) {  // which thrusters sit at a limit
+    if (__builtin_popcount(mask) != fixed) continue;
+    for (unsigned side = 0; side < (1u << fixed); ++side) {  // and at which one
+      Eigen::MatrixXd a(m, m);
+      Eigen::VectorXd rhs = Eigen::VectorXd::Zero(m);
+      std::vector<int> free_idx;
+      int bit = 0;
+      for (int i = 0; i < n; ++i) {
+        if (mask & (1u << i)) {
+          const double fi = (side & (1u << bit++)) ? hi[static_cast<std::size_t>(i)]
+                                                   : lo[static_cast<std::size_t>(i)];
+          rhs -= b.col(i) * fi;
+        } else {
+          free_idx.push_back(i);
+        }
+      }
+      for (int k = 0; k < m - 1; ++k) a.col(k) = b.col(free_idx[static_cast<std::size_t>(k)]);
+      a.col(m - 1) = -wr;
+      Eigen::FullPivLU<Eigen::MatrixXd> lu(a);
+      if (lu.rank() < m) continue;
+      const Eigen::VectorXd sol = lu.solve(rhs);
+      bool ok = sol(m - 1) >= 0;
+      for (int k = 0; k < m - 1 && ok; ++k) {
+        const auto i = static_cast<std::size_t>(free_idx[static_cast<std::size_t>(k)]);
+        ok = sol(k) >= lo[i] - 1e-9 && sol(k) <= hi[i] + 1e-9;
+      }
+      if (ok) best = std::max(best, sol(m - 1));
+    }
+  }
+  return best;
 }
 
 // Same vehicle with another strategy (and the default priority X Y Z N M K when needed).
