@@ -60,7 +60,10 @@ StationPidParams load_station_pid_params(const config::Value& v) {
   p.max_dt = v.number("max_dt_s", Range::positive());
   p.weathervane = v.boolean("weathervane");
   p.weathervane_min_force = v.number("weathervane_min_force", Range::at_least(0));
+  p.weathervane_full_force =
+      v.number("weathervane_full_force", Range::at_least(p.weathervane_min_force));
   p.reverse_radius = v.number("reverse_radius", Range::at_least(0));
+  p.reverse_blend = v.number("reverse_blend_m", Range::at_least(0));
   return p;
 }
 

@@ -16,17 +16,15 @@ PidTerms StationPid::step(const StationPidInput& in) {
   const double en = in.target_n - in.n, ee = in.target_e - in.e;
   const double ex = c * en + s * ee;
   const double ey = -s * en + c * ee;
-  double epsi = angle_diff(in.target_heading, in.heading);
+  const double epsi_target = angle_diff(in.target_heading, in.heading);
   const bool integrate = in.dt > 0 && in.dt <= p_.max_dt;
 
-  // Integral: body-frame increments, stored as a world-frame force.
+  // Integral (x, y): body-frame increments, stored as a world-frame force.
   if (integrate) {
     const double dix = in.freeze[0] ? 0.0 : p_.x.ki * ex * in.dt;
     const double diy = in.freeze[1] ? 0.0 : p_.y.ki * ey * in.dt;
     i_world_[0] += c * dix - s * diy;
     i_world_[1] += s * dix + c * diy;
-    if (!in.freeze[2])
-      i_yaw_ = std::clamp(i_yaw_ + p_.yaw.ki * epsi * in.dt, -p_.yaw.i_limit, p_.yaw.i_limit);
   }
   double ix = c * i_world_[0] + s * i_world_[1];
   double iy = -s * i_world_[0] + c * i_world_[1];
@@ -37,37 +35,58 @@ PidTerms StationPid::step(const StationPidInput& in) {
   t.setpoint = {0.0, 0.0, wrap_pi(in.target_heading)};
   t.measured = {-ex, -ey, in.heading};  // body position relative to the target
   t.p = {p_.x.kp * ex, p_.y.kp * ey, 0};
-  t.i = {ix, iy, i_yaw_};
+  t.i = {ix, iy, 0};
   t.d = {-p_.x.kd * in.u, -p_.y.kd * in.v, -p_.yaw.kd * in.r};
   t.frozen = in.freeze;
 
+  double epsi = epsi_target;
   if (p_.weathervane) {
     // Demanded force in the world frame, produced by surge and heading alone.
     const double fx = t.p[0] + t.i[0] + t.d[0];
     const double fy = t.p[1] + t.i[1] + t.d[1];
     const double fn = c * fx - s * fy, fe = s * fx + c * fy;
     const double fmag = std::hypot(fn, fe);
-    if (fmag > p_.weathervane_min_force) {
-      double bearing = std::atan2(fe, fn);
+    // Heading error toward the force: the bow along it (d_bow), or, close to the target, the
+    // hull's axis along it, bow or stern whichever is nearer (d_axis: 0 with the force dead
+    // astern, so the boat pushes astern), faded to 0 at 90 deg off the bow, so that, unlike a
+    // switch between bow and stern, it is continuous there. Between reverse_radius and
+    // reverse_radius + reverse_blend the two fade into each other; and the whole fades in with
+    // |F| between weathervane_min_force and weathervane_full_force (below: the target heading).
+    // No switch anywhere: the yaw demand is continuous in the error.
+    if (fmag > 0) {
+      const double d_bow = angle_diff(std::atan2(fe, fn), in.heading);
+      // Toward the nearer end of the hull's axis (bow or stern), at full strength up to 60 deg
+      // off the axis, fading to 0 at 90 deg (where bow and stern are equally near).
+      const double d_end = std::abs(d_bow) <= kPi / 2 ? d_bow : wrap_pi(d_bow + kPi);
+      const double d_axis = d_end * std::min(1.0, std::abs(std::cos(d_bow)) / std::cos(kPi / 3));
       const double dist = std::hypot(en, ee);
-      if (dist < p_.reverse_radius && std::abs(angle_diff(bearing, in.heading)) > kPi / 2) {
-        bearing = wrap_pi(bearing + kPi);  // push astern instead of turning around
-      }
-      epsi = angle_diff(bearing, in.heading);
-      t.setpoint[2] = bearing;
+      const double w_bow = p_.reverse_blend > 0
+                               ? std::clamp((dist - p_.reverse_radius) / p_.reverse_blend, 0.0, 1.0)
+                               : (dist >= p_.reverse_radius ? 1.0 : 0.0);
+      const double d_force = w_bow * d_bow + (1 - w_bow) * d_axis;
+      const double span = p_.weathervane_full_force - p_.weathervane_min_force;
+      const double w_force = span > 0
+                                 ? std::clamp((fmag - p_.weathervane_min_force) / span, 0.0, 1.0)
+                                 : (fmag > p_.weathervane_min_force ? 1.0 : 0.0);
+      epsi = w_force * d_force + (1 - w_force) * epsi_target;
+      t.setpoint[2] = wrap_pi(in.heading + epsi);
     }
-    // Only the part of F along the bow can be produced.
-    t.p[0] = p_.x.kp * ex;
+    // Only the part of F along the bow can be produced: it is fx = P + I + D of the x axis.
     t.p[1] = 0;
     t.i[1] = 0;
     t.d[1] = 0;
-    const double along = fn * c + fe * s;
-    t.out[0] = std::clamp(along, -p_.x.max_output, p_.x.max_output);
+    t.out[0] = std::clamp(fn * c + fe * s, -p_.x.max_output, p_.x.max_output);
     t.out[1] = 0;
   } else {
     t.out[0] = std::clamp(t.p[0] + t.i[0] + t.d[0], -p_.x.max_output, p_.x.max_output);
     t.out[1] = std::clamp(t.p[1] + t.i[1] + t.d[1], -p_.y.max_output, p_.y.max_output);
   }
+  // Yaw: P and I on the heading error in force (the target's, or the weathervane's), so the
+  // published P + I + D is the output (up to max_output).
+  if (integrate && !in.freeze[2]) {
+    i_yaw_ = std::clamp(i_yaw_ + p_.yaw.ki * epsi * in.dt, -p_.yaw.i_limit, p_.yaw.i_limit);
+  }
+  t.i[2] = i_yaw_;
   t.p[2] = p_.yaw.kp * epsi;
   t.out[2] = std::clamp(t.p[2] + t.i[2] + t.d[2], -p_.yaw.max_output, p_.yaw.max_output);
   return t;

@@ -11,9 +11,12 @@
 // axis, is bounded per axis by i_limit, and is frozen while the mixer reduced that axis.
 //
 // Weathervane mode (boats with no sway authority, e.g. the Otter): the demanded world-frame
-// force F = R(psi) [x y] is produced by turning the bow along F (or the stern, within
-// reverse_radius) and pushing with surge only; with |F| below weathervane_min_force the target
-// heading is held. Outputs X, Y in N and N in N m, clamped to max_output.
+// force F = R(psi) [x y] is produced by turning the bow along F (or, within reverse_radius, the
+// hull's axis: bow or stern) and pushing with surge only; with |F| below weathervane_min_force
+// the target heading is held. No hard switches: the heading error blends from the target's to
+// the force's with |F| (min_force .. full_force) and from axis to bow with the distance
+// (reverse_radius .. + reverse_blend), see station_pid.cpp. The published P + I + D of each
+// axis is its output (before the max_output clamp). Outputs X, Y in N and N in N m.
 #pragma once
 
 #include <array>
@@ -32,10 +35,12 @@ struct StationAxisGains {
 
 struct StationPidParams {
   StationAxisGains x, y, yaw;
-  double max_dt = 0.5;               // s: longer gaps do not integrate
-  bool weathervane = false;          // no sway authority: point the bow along the force
-  double weathervane_min_force = 5;  // N: below this, hold the target heading
-  double reverse_radius = 1.0;       // m: within this, push astern rather than turn around
+  double max_dt = 0.5;                 // s: longer gaps do not integrate
+  bool weathervane = false;            // no sway authority: point the bow along the force
+  double weathervane_min_force = 5;    // N: below this, hold the target heading
+  double weathervane_full_force = 10;  // N: above this, follow the force; blended between
+  double reverse_radius = 1.0;         // m: within this, push astern rather than turn around
+  double reverse_blend = 0.5;          // m: bow rule fades in from reverse_radius over this
 };
 
 struct StationPidInput {

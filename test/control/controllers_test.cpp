@@ -5,11 +5,13 @@
 #include <tiller/wrench_t.hpp>
 
 #include <cmath>
+#include <cstdio>
 
 #include "control/arbiter.hpp"
 #include "control/control_config.hpp"
 #include "control/station_pid.hpp"
 #include "control/velocity_pid.hpp"
+#include "core/angles.hpp"
 #include "core/config.hpp"
 
 namespace tiller::control {
@@ -188,6 +190,112 @@ TEST(StationPid, WeathervaneTurnsTheBowAlongTheForce) {
   t = pid.step(in);
   EXPECT_NEAR(t.setpoint[2], 0.0, 1e-12);
   EXPECT_LT(t.out[0], 0.0);
+}
+
+// The Otter's shipped station-keeping gains (weathervane mode, 8 / 16 N, reverse radius 1 m
+// + 0.5 m blend).
+StationPidParams otter_station() {
+  return load_station_keep_node_params(config::Value::load_file(std::string(TILLER_SOURCE_DIR) +
+                                                                "/config/control/otter.yaml"))
+      .pid;
+}
+
+// Published P + I + D + FF is the output on each axis (no clamp active here).
+void expect_terms_add_up(const PidTerms& t) {
+  for (int k = 0; k < 3; ++k) {
+    EXPECT_NEAR(t.p[k] + t.i[k] + t.d[k] + t.ff[k], t.out[k], 1e-9) << "axis " << k;
+  }
+}
+
+// No hard switch in weathervane mode: sweeping the error slowly through every threshold (the
+// force thresholds, 90 deg off the bow inside reverse_radius, the reverse radius itself) moves
+// the yaw output by at most a few N m per step. The old rule switched the heading setpoint at
+// weathervane_min_force (about 24 N m here) and flipped it by pi at 90 deg off the bow inside
+// reverse_radius and on crossing it (up to 160 N m, clamped at 80).
+TEST(StationPid, WeathervaneHasNoHardSwitches) {
+  const auto p = otter_station();
+  ASSERT_TRUE(p.weathervane);
+  ASSERT_LT(p.weathervane_min_force, p.weathervane_full_force);
+  StationPid pid(p);
+  StationPidInput in;  // at the origin facing north, target heading north, at rest
+  double worst = 0;
+  auto sweep = [&](double n, double e, double& last, bool first) {
+    in.target_n = n;
+    in.target_e = e;
+    const auto t = pid.step(in);
+    expect_terms_add_up(t);
+    EXPECT_TRUE(std::isfinite(t.out[2]));
+    if (!first) worst = std::max(worst, std::abs(t.out[2] - last));
+    last = t.out[2];
+  };
+  // 1. |F| through weathervane_min_force and full_force, then through reverse_radius and its
+  // blend: the target 45 deg off the bow, 0 -> 2 m in 1 cm steps (|F| = kp * d: 8 N at 0.2 m).
+  double last = 0;
+  for (int k = 0; k <= 200; ++k) {
+    const double d = 0.01 * k;
+    sweep(d * std::cos(kPi / 4), d * std::sin(kPi / 4), last, k == 0);
+  }
+  EXPECT_LT(worst, 3.0);
+  std::printf("largest yaw step: |F| and radius sweep %.2f N m", worst);
+  // 2. Round the boat at 0.8 m (inside reverse_radius), 1 deg steps: through 90 deg off the bow.
+  worst = 0;
+  for (int k = 0; k <= 360; ++k) {
+    const double b = deg_to_rad(k);
+    sweep(0.8 * std::cos(b), 0.8 * std::sin(b), last, k == 0);
+  }
+  EXPECT_LT(worst, 3.0);
+  std::printf(", round the boat %.2f N m", worst);
+  // 3. 150 deg off the bow (astern quarter), out through reverse_radius: 0.5 -> 2 m, 1 cm steps.
+  worst = 0;
+  for (int k = 0; k <= 150; ++k) {
+    const double d = 0.5 + 0.01 * k, b = deg_to_rad(150);
+    sweep(d * std::cos(b), d * std::sin(b), last, k == 0);
+  }
+  EXPECT_LT(worst, 3.0);
+  std::printf(", out through reverse_radius %.2f N m\n", worst);
+  // Far out the bow turns along the force; close behind, it pushes astern holding its heading.
+  in.target_n = 0;
+  in.target_e = 3;
+  auto t = pid.step(in);
+  EXPECT_NEAR(t.setpoint[2], kPi / 2, 1e-9);
+  EXPECT_NEAR(t.out[2], std::min(p.yaw.max_output, p.yaw.kp * kPi / 2), 1e-9);
+  in.target_n = -0.5;
+  in.target_e = 0;
+  t = pid.step(in);
+  EXPECT_NEAR(t.setpoint[2], 0.0, 1e-9);
+  EXPECT_LT(t.out[0], 0.0);
+  // Below weathervane_min_force the target heading holds.
+  in.target_n = 0;
+  in.target_e = 0.1;  // 4 N
+  in.target_heading = 0.3;
+  t = pid.step(in);
+  EXPECT_NEAR(t.setpoint[2], 0.3, 1e-12);
+}
+
+TEST(StationPid, TermsAddUpToTheOutputInWeathervaneMode) {
+  auto p = otter_station();
+  p.yaw.ki = 2;  // exercise the yaw integral too
+  p.yaw.i_limit = 10;
+  StationPid pid(p);
+  StationPidInput in;
+  for (int k = 0; k < 100; ++k) {
+    in.target_n = 1.5 * std::sin(0.1 * k);
+    in.target_e = 1.2 * std::cos(0.07 * k);
+    in.target_heading = 0.5 * std::sin(0.03 * k);
+    in.heading = 0.2 * k;
+    in.u = 0.1 * std::sin(0.2 * k);
+    in.v = 0.05;
+    in.r = 0.02 * std::cos(0.1 * k);
+    in.dt = 0.05;
+    const auto t = pid.step(in);
+    SCOPED_TRACE(k);
+    EXPECT_DOUBLE_EQ(t.out[1], 0.0);
+    for (int a = 0; a < 3; ++a) {
+      const double sum = t.p[a] + t.i[a] + t.d[a] + t.ff[a];
+      const double lim = a == 0 ? p.x.max_output : a == 1 ? p.y.max_output : p.yaw.max_output;
+      EXPECT_NEAR(std::clamp(sum, -lim, lim), t.out[a], 1e-9) << "axis " << a;
+    }
+  }
 }
 
 TEST(Arbiter, TheSeedsChoosePidRules) {
