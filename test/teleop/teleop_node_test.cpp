@@ -96,12 +96,7 @@ TEST(Mapping, Seed000StickForwardIsSurgeRightIsSway) {
 
 TEST(Mapping, Seed001FiveDofSigns) {
   Rig r(load_teleop_file(config_path("extreme3dpro_seed001.yaml")));
-  auto& s = r.state;
-  s.n_axes = 6;
-  s.axes = {0, 0, 0, 32767, 0, 0};
-  s.n_buttons = 12;
-  s.buttons.assign(12, false);
-  s.connected = true;
+  auto& s = r.plug_in({0, 0, 0, 32767, 0, 0});
   r.feed(ms(100));
   ASSERT_TRUE(r.node.centred());
   s.axes[2] = 32767;  // twist clockwise -> yaw clockwise (+N)
@@ -228,12 +223,7 @@ TEST(Buttons, HeldAtPlugInDoesNotArm) {
 
 TEST(Buttons, PressLongerThanDebounceEndingBetweenTicksCounts) {
   Rig r(load_teleop_file(config_path("extreme3dpro_seed000.yaml")));  // 30 ms, ticks every 20
-  auto& s = r.state;
-  s.n_axes = 6;
-  s.axes = {0, 0, 0, 0, 0, 0};
-  s.n_buttons = 12;
-  s.buttons.assign(12, false);
-  s.connected = true;
+  auto& s = r.plug_in();
   r.feed(ms(1000));
   s.buttons[6] = true;
   r.feed(ms(1001));
@@ -256,12 +246,7 @@ TEST(Buttons, GainStepsModesAndTranslation) {
   TeleopParams p = load_teleop_file(config_path("extreme3dpro_seed000.yaml"));
   p.debounce = 0;
   Rig r(p);
-  auto& s = r.state;
-  s.n_axes = 6;
-  s.axes = {0, 0, 0, 0, 0, 0};
-  s.n_buttons = 12;
-  s.buttons.assign(12, false);
-  s.connected = true;
+  auto& s = r.plug_in();
   r.feed(ms(0));
   auto press = [&](int b, double t) {
     s.buttons[static_cast<std::size_t>(b)] = true;
@@ -307,12 +292,7 @@ TEST(Buttons, ModeIsPublishedAtStartAndRepeatedButArmIsNot) {
   p.initial_mode = controller_mode_t::MANUAL_CLOSED_LOOP;
   p.debounce = 0;
   Rig r(p);
-  auto& s = r.state;
-  s.n_axes = 6;
-  s.axes = {0, 0, 0, 0, 0, 0};
-  s.n_buttons = 12;
-  s.buttons.assign(12, false);
-  s.connected = true;
+  auto& s = r.plug_in();
   r.feed(ms(0));
   s.buttons[6] = true;  // arm (base label 7)
   r.feed(ms(100));
@@ -336,12 +316,7 @@ TEST(Buttons, ModeIsPublishedAtStartAndRepeatedButArmIsNot) {
 
 TEST(ClosedLoop, VelocityScaledAndHeadingHeld) {
   Rig r(load_teleop_file(config_path("extreme3dpro_seed001.yaml")));
-  auto& s = r.state;
-  s.n_axes = 6;
-  s.axes = {0, -32767, 0, 0, 0, 0};
-  s.n_buttons = 12;
-  s.buttons.assign(12, false);
-  s.connected = true;
+  auto& s = r.plug_in({0, -32767, 0, 0, 0, 0});
   r.feed(ms(0));  // deflected at plug-in: invalid
   s.axes[1] = 0;
   r.feed(ms(10));

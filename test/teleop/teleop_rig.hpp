@@ -56,6 +56,17 @@ class Rig {
   }
   ~Rig() { node.attach(nullptr); }
 
+  // Sets the fed state to a connected Extreme-3D-Pro-like device (6 axes, 12 buttons, none
+  // pressed) with these axis values; the next feed() delivers it.
+  joystick_state_t& plug_in(std::vector<std::int16_t> axes = {0, 0, 0, 0, 0, 0}) {
+    state.n_axes = static_cast<std::int32_t>(axes.size());
+    state.axes = std::move(axes);
+    state.n_buttons = 12;
+    state.buttons.assign(12, false);
+    state.connected = true;
+    return state;
+  }
+
   // Ticks due at or before t (ticks before deliveries at one instant).
   void run_until(TimeUs t) {
     while (next_tick <= t) {
