@@ -137,7 +137,8 @@ int main(int argc, char** argv) {
          {"timeout-s", "S",
           "wait: give up (exit 1) after this long (default: the mission's time_limit_s, else 600)",
           ""},
-         {"mission", "FILE", "wait: take hold and timeout from this mission file", ""}}};
+         {"mission", "FILE", "wait: take hold and timeout from this mission file", ""}},
+        false};  // no config file: --config refused (--lcm-url is for wait)
     const app::Args a = app::parse(argc, argv, spec);
     const auto& p = a.positional;
     if (p.size() == 4 && p[0] == "wait") return wait_for(a);

@@ -24,7 +24,9 @@ int main(int argc, char** argv) {
         "",
         {{"output", "FILE", "PNG to write (default: the log's name with .png)", ""},
          {"data-dir", "DIR",
-          "keep the CSV files and the gnuplot script here (default: a temporary directory)", ""}}};
+          "keep the CSV files and the gnuplot script here (default: a temporary directory)", ""}},
+        false,   // no config file: --config refused
+        false};  // reads a log, opens no LCM: --lcm-url refused
     const app::Args a = app::parse(argc, argv, spec);
     if (a.positional.size() != 1) {
       std::cerr << "tiller-plot: give one log file (see --help)\n";

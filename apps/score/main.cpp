@@ -22,7 +22,9 @@ int main(int argc, char** argv) {
                   "Scores a logged run (cross-track, time, final error, VRX scores).",
                   "",
                   {{"log", "FILE", "LCM log to score", ""},
-                   {"mission", "FILE", "mission file (default: the path in the log)", ""}}});
+                   {"mission", "FILE", "mission file (default: the path in the log)", ""}},
+                  false,    // no config file: --config refused
+                  false});  // reads a log, opens no LCM: --lcm-url refused
   return app::guarded_main("tiller-score", [&] {
     if (args.get("log").empty()) throw std::runtime_error("--log FILE is required");
     const auto events =

@@ -3,6 +3,7 @@
 #include <cstdio>
 #include <cstdlib>
 #include <exception>
+#include <filesystem>
 #include <iostream>
 
 #include "core/config.hpp"
@@ -25,9 +26,17 @@ namespace {
 void usage(const Spec& spec, std::ostream& os) {
   os << "Usage: " << spec.program << " [options]\n" << spec.summary << "\n\nOptions:\n";
   os << "  --help               show this help\n";
-  os << "  --config FILE        YAML config"
-     << (spec.default_config.empty() ? "" : " (default: " + spec.default_config + ")") << "\n";
-  os << "  --lcm-url URL        LCM URL (default: " << channels::kDefaultLcmUrl << ")\n";
+  if (spec.takes_config) {
+    os << "  --config FILE        YAML config"
+       << (spec.default_config.empty() ? "" : " (default: " + spec.default_config + ")") << "\n";
+  } else {
+    os << "  --config FILE        not taken: " << spec.program << " has no config file\n";
+  }
+  if (spec.takes_lcm_url) {
+    os << "  --lcm-url URL        LCM URL (default: " << channels::kDefaultLcmUrl << ")\n";
+  } else {
+    os << "  --lcm-url URL        not taken: " << spec.program << " opens no LCM\n";
+  }
   for (const auto& o : spec.options) {
     std::string lhs = "--" + o.name + (o.value_name.empty() ? "" : " " + o.value_name);
     if (lhs.size() < 20) lhs.resize(20, ' ');
@@ -38,13 +47,24 @@ void usage(const Spec& spec, std::ostream& os) {
 }
 }  // namespace
 
+std::string resolve_path(const std::string& path) {
+  namespace fs = std::filesystem;
+  if (path.empty() || fs::path(path).is_absolute() || fs::exists(path)) return path;
+  for (const char* base : {TILLER_SOURCE_DIR "/", TILLER_SOURCE_DIR "/config/"}) {
+    const std::string candidate = base + path;
+    if (fs::exists(candidate)) return candidate;
+  }
+  return path;
+}
+
 Args parse(int argc, char** argv, const Spec& spec) {
   Args a;
   a.config = spec.default_config;
   const char* env_url = std::getenv("LCM_DEFAULT_URL");
   a.lcm_url = env_url ? env_url : channels::kDefaultLcmUrl;
   for (const auto& o : spec.options) {
-    if (!o.default_value.empty()) a.values[o.name] = o.default_value;
+    if (o.default_value.empty()) continue;
+    a.values[o.name] = o.value_name == "FILE" ? resolve_path(o.default_value) : o.default_value;
   }
   auto bad = [&](const std::string& msg) {
     std::cerr << spec.program << ": " << msg << "\n";
@@ -69,8 +89,12 @@ Args parse(int argc, char** argv, const Spec& spec) {
       usage(spec, std::cout);
       std::exit(0);
     } else if (s == "--config") {
+      if (!spec.takes_config) {
+        bad("--config is not taken: " + spec.program + " has no config file");
+      }
       a.config = take();
     } else if (s == "--lcm-url") {
+      if (!spec.takes_lcm_url) bad("--lcm-url is not taken: " + spec.program + " opens no LCM");
       a.lcm_url = take();
     } else if (s.rfind("--", 0) == 0) {
       const std::string name = s.substr(2);
@@ -85,6 +109,7 @@ Args parse(int argc, char** argv, const Spec& spec) {
       a.positional.push_back(s);
     }
   }
+  a.config = resolve_path(a.config);
   return a;
 }
 

@@ -1,5 +1,11 @@
 // The common command line of every tiller-<name> program: --help, --config FILE,
 // --lcm-url URL, plus program-specific options. Keeps each main() a few lines long.
+//
+// Paths: a relative --config (given or default) that does not exist from the current directory
+// is looked up in the source tree (<source>/ then <source>/config/), so every program finds its
+// default config from any directory; so are the defaults of options whose value is a FILE.
+// Standard options a program does not use (Spec::takes_config / takes_lcm_url false) are
+// refused with a message (exit 2) instead of being silently ignored.
 #pragma once
 
 #include <functional>
@@ -19,8 +25,10 @@ struct Option {
 struct Spec {
   std::string program;         // e.g. "tiller-mixer"
   std::string summary;         // one line: what it does
-  std::string default_config;  // relative to the source tree's config/, may be empty
+  std::string default_config;  // relative to the current directory or the source tree; may be empty
   std::vector<Option> options;
+  bool takes_config = true;   // false: --config is refused (the program has no config file)
+  bool takes_lcm_url = true;  // false: --lcm-url is refused (the program opens no LCM)
 };
 
 struct Args {
@@ -34,6 +42,10 @@ struct Args {
 
 // Parses argv; prints usage and exits 0 on --help, exits 2 with a message on bad usage.
 Args parse(int argc, char** argv, const Spec& spec);
+
+// `path` as given if it is empty, absolute or exists from the current directory; else the
+// first of <source>/path and <source>/config/path that exists; else `path` unchanged.
+std::string resolve_path(const std::string& path);
 
 // Runs body(); a config or start-up error is printed as "<program>: <message>" and gives 2.
 int guarded_main(const std::string& program, const std::function<int()>& body);

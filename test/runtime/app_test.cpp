@@ -1,0 +1,106 @@
+// The common command line (runtime/app.hpp): default configs are found in the source tree from
+// any directory; standard options a program does not take are refused (exit 2, a message
+// naming the option) instead of ignored; FILE option defaults are resolved like --config.
+#include <gtest/gtest.h>
+#include <unistd.h>
+
+#include <cstdlib>
+#include <filesystem>
+#include <fstream>
+#include <string>
+#include <vector>
+
+#include "runtime/app.hpp"
+
+namespace tiller::app {
+namespace {
+
+namespace fs = std::filesystem;
+
+// Runs parse() on a command line.
+Args run(const Spec& spec, std::vector<std::string> words) {
+  words.insert(words.begin(), spec.program);
+  std::vector<char*> argv;
+  for (auto& w : words) argv.push_back(w.data());
+  return parse(static_cast<int>(argv.size()), argv.data(), spec);
+}
+
+// Changes to an empty temporary directory for the test's lifetime.
+struct ElsewhereDir {
+  fs::path old = fs::current_path();
+  fs::path dir = fs::temp_directory_path() / ("tiller-app-test-" + std::to_string(getpid()));
+  ElsewhereDir() {
+    fs::create_directories(dir);
+    fs::current_path(dir);
+  }
+  ~ElsewhereDir() {
+    fs::current_path(old);
+    fs::remove_all(dir);
+  }
+};
+
+TEST(App, DefaultConfigIsFoundFromAnotherDirectory) {
+  ElsewhereDir here;
+  const Spec spec{"tiller-x", "test", "config/control/otter.yaml", {}};
+  const Args a = run(spec, {});
+  EXPECT_EQ(a.config, std::string(TILLER_SOURCE_DIR) + "/config/control/otter.yaml");
+  EXPECT_TRUE(fs::exists(a.config));
+  // Relative to config/ as well (tiller-sim's default is "sim/sim.yaml").
+  EXPECT_EQ(run({"tiller-x", "test", "sim/sim.yaml", {}}, {}).config,
+            std::string(TILLER_SOURCE_DIR) + "/config/sim/sim.yaml");
+  // An explicit one too.
+  EXPECT_EQ(run(spec, {"--config", "config/mixer/otter.yaml"}).config,
+            std::string(TILLER_SOURCE_DIR) + "/config/mixer/otter.yaml");
+  // A file that exists here wins over the source tree.
+  fs::create_directories("config/control");
+  { std::ofstream("config/control/otter.yaml") << "x: 1\n"; }
+  EXPECT_EQ(run(spec, {}).config, "config/control/otter.yaml");
+  // Absolute and missing paths are left alone (the loader then names them).
+  EXPECT_EQ(run(spec, {"--config", "/nonexistent/a.yaml"}).config, "/nonexistent/a.yaml");
+  EXPECT_EQ(run(spec, {"--config", "nowhere.yaml"}).config, "nowhere.yaml");
+}
+
+TEST(App, FileOptionDefaultsAreResolved) {
+  ElsewhereDir here;
+  const Spec spec{"tiller-x",
+                  "test",
+                  "",
+                  {{"mission", "FILE", "mission", "config/missions/default.yaml"},
+                   {"name", "TEXT", "not a file", "config/missions/default.yaml"}}};
+  const Args a = run(spec, {});
+  EXPECT_EQ(a.get("mission"), std::string(TILLER_SOURCE_DIR) + "/config/missions/default.yaml");
+  EXPECT_EQ(a.get("name"), "config/missions/default.yaml");
+  EXPECT_EQ(run(spec, {"--mission", "mine.yaml"}).get("mission"), "mine.yaml");
+}
+
+TEST(App, UnusedStandardOptionsAreRefused) {
+  const Spec no_config{"tiller-plot", "test", "", {}, false, true};
+  EXPECT_EXIT(run(no_config, {"--config", "a.yaml"}), ::testing::ExitedWithCode(2),
+              "tiller-plot: --config is not taken: tiller-plot has no config file");
+  const Spec no_lcm{"tiller-plot", "test", "", {}, true, false};
+  EXPECT_EXIT(run(no_lcm, {"--lcm-url=udpm://239.255.76.67:7667"}), ::testing::ExitedWithCode(2),
+              "tiller-plot: --lcm-url is not taken: tiller-plot opens no LCM");
+  // Taken ones still work.
+  EXPECT_EQ(run(no_lcm, {"--config", "/a.yaml"}).config, "/a.yaml");
+  EXPECT_EQ(run(no_config, {"--lcm-url", "memq://"}).lcm_url, "memq://");
+}
+
+TEST(App, HelpSaysWhichStandardOptionsAreNotTaken) {
+  const Spec spec{"tiller-plot", "draws", "", {}, false, false};
+  // --help prints to stdout; the death test reads stderr, so send one to the other.
+  EXPECT_EXIT(
+      {
+        dup2(2, 1);
+        run(spec, {"--help"});
+      },
+      ::testing::ExitedWithCode(0), "--config FILE +not taken: tiller-plot has no config file");
+  EXPECT_EXIT(
+      {
+        dup2(2, 1);
+        run(spec, {"--help"});
+      },
+      ::testing::ExitedWithCode(0), "--lcm-url URL +not taken: tiller-plot opens no LCM");
+}
+
+}  // namespace
+}  // namespace tiller::app
