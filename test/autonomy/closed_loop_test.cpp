@@ -119,17 +119,25 @@ TEST(ClosedLoop, ClosedCourseLeavesTheStartAlongTheFirstLeg) {
   c.pose_channel = plants()[0].pose_channel;
   const auto r = run_mission(c);
   ASSERT_TRUE(r.completed);
-  double worst_yaw = 0, worst_east = 0;
+  double worst_yaw = 0, worst_east = 0, first_leg = 0;
+  bool on_first_leg = true;
   for (const auto& p : r.poses) {
-    if (p.t > 8.0) break;
+    if (p.north > 19.0) on_first_leg = false;  // the first corner is at (20, 0)
+    if (on_first_leg) first_leg = std::max(first_leg, std::abs(p.east));
+    if (p.t > 8.0) continue;
     worst_yaw = std::max(worst_yaw, std::abs(angle_diff(p.heading, 0.0)));
     worst_east = std::max(worst_east, std::abs(p.east));
   }
-  EXPECT_LT(worst_yaw, 0.3);               // rad (was 0.72)
-  EXPECT_LT(worst_east, 0.6);              // m (was 2.2)
-  EXPECT_LT(r.path.cross_track_max, 1.6);  // m (was 2.24; what is left is the corners)
-  std::printf("otter default: first 8 s |yaw| <= %.2f rad, |east| <= %.2f m; xte max %.2f m\n",
-              worst_yaw, worst_east, r.path.cross_track_max);
+  EXPECT_LT(worst_yaw, 0.3);   // rad (was 0.72)
+  EXPECT_LT(worst_east, 0.6);  // m (was 2.2)
+  // The whole first leg within 0.6 m of its line (the old 2.24 m max was there); the course's
+  // max is now at a corner, where the current sets the boat out of the turn.
+  EXPECT_LT(first_leg, 0.6);
+  EXPECT_LT(r.path.cross_track_max, 2.24);
+  std::printf(
+      "otter default: first 8 s |yaw| <= %.2f rad, |east| <= %.2f m; first leg %.2f m; xte max "
+      "%.2f m\n",
+      worst_yaw, worst_east, first_leg, r.path.cross_track_max);
 }
 
 TEST(ClosedLoop, SameRunSameResult) {
@@ -175,6 +183,50 @@ TEST(ClosedLoop, VelocityPidStepResponse) {
     std::printf(
         "%s: step 0 -> 1.5 m/s: overshoot %.1f %%, rise (90 %%) %.2f s, settle (5 %%) %.2f s\n",
         k.name.c_str(), 100 * r.overshoot, r.rise_s, r.settle_s);
+  }
+}
+
+// Sway (seed 004's X and H drives; the Otter has no sway authority) and yaw-rate steps, in
+// still water, the other axes held at zero. Same first-order argument as for surge: the drag
+// feed-forward cancels the hull's damping at the setpoint, so the error decays with
+// tau = m / (D + k_error):
+//   sway, X/H: 180 / (40 + 300) = 0.53 s; yaw rate, X/H: 446 / (400 + 600) = 0.45 s;
+//   yaw rate, Otter: 42.65 / (42.65 + 60) = 0.42 s (its quadratic yaw damping, 426.5 |r| r, is
+//   fed forward too: without it the PID reached 0.24 of 0.3 rad/s). The Otter's step is
+//   0.2 rad/s: its two propellers give at most 0.395 * (119.7 + 66.7) = 74 N m, so it turns
+//   at 0.29 rad/s at most. The X and H drives' yaw and sway ki were lowered (200 -> 80, 40 -> 10):
+//   an integrator that winds up during the rise and unwinds at ki / (D + k_error) = 0.2 /s left
+//   a 4 s tail outside the 5 % band (overshoot 7.7 %, settling 4.3 s; sway 5 %, 2.7 s).
+// Behind the 0.1 s thruster lag, 5 % settling is 3 tau + lag, 1.4-1.7 s: we require 2 s and an
+// overshoot under 10 %, as for surge.
+TEST(ClosedLoop, VelocityPidSwayAndYawRateSteps) {
+  struct Step {
+    std::string vehicle;
+    StepAxis axis;
+    double command;
+    const char* what;
+  };
+  std::vector<Step> steps = {{"seed004_usv_x", StepAxis::kSway, 0.5, "sway 0 -> 0.5 m/s"},
+                             {"seed004_usv_h", StepAxis::kSway, 0.5, "sway 0 -> 0.5 m/s"},
+                             {"otter", StepAxis::kYawRate, 0.2, "yaw rate 0 -> 0.2 rad/s"},
+                             {"seed004_usv_x", StepAxis::kYawRate, 0.3, "yaw rate 0 -> 0.3 rad/s"},
+                             {"seed004_usv_h", StepAxis::kYawRate, 0.3, "yaw rate 0 -> 0.3 rad/s"}};
+  for (const auto& st : steps) {
+    const PlantSpec* k = nullptr;
+    for (const auto& p : plants()) {
+      if (p.name == st.vehicle) k = &p;
+    }
+    ASSERT_NE(k, nullptr);
+    SCOPED_TRACE(st.vehicle + ": " + st.what);
+    mission::Mission m;
+    const auto r = velocity_step(k->control_file, st.command, k->make(m, 0.0, 0.0), 15, st.axis);
+    EXPECT_LT(r.overshoot, 0.10);
+    EXPECT_GT(r.settle_s, 0.0);
+    EXPECT_LT(r.settle_s, 2.0);
+    EXPECT_NEAR(r.final_speed, st.command, 0.02 * st.command);
+    std::printf(
+        "%s: %s: overshoot %.1f %%, rise (90 %%) %.2f s, settle (5 %%) %.2f s, final %.3f\n",
+        st.vehicle.c_str(), st.what, 100 * r.overshoot, r.rise_s, r.settle_s, r.final_speed);
   }
 }
 

@@ -16,7 +16,8 @@
 namespace tiller::test {
 
 StepResult velocity_step(const std::string& control_file, double command,
-                         std::vector<std::unique_ptr<Node>> plant, double duration_s) {
+                         std::vector<std::unique_ptr<Node>> plant, double duration_s,
+                         StepAxis axis) {
   auto p =
       control::load_velocity_pid_node_params(config::Value::load_file(source_path(control_file)));
   p.arbiter.default_mode = controller_mode_t::MANUAL_CLOSED_LOOP;
@@ -29,11 +30,15 @@ StepResult velocity_step(const std::string& control_file, double command,
   ex.observe([&](const std::string& ch, const std::uint8_t* d, int n, TimeUs t) {
     if (ch == channels::kOdometry && o.decode(d, 0, n) == n) {
       r.t.push_back(to_seconds(t));
-      r.u.push_back(o.velocity[0]);
+      r.u.push_back(o.velocity[static_cast<int>(axis)]);
     }
   });
   manual_velocity_cmd_t m{};
-  m.velocity[0] = command;
+  if (axis == StepAxis::kYawRate) {
+    m.yaw_rate = command;
+  } else {
+    m.velocity[static_cast<int>(axis)] = command;
+  }
   m.yaw_mode = manual_velocity_cmd_t::YAW_RATE;
   m.valid = true;
   const TimeUs end = from_seconds(duration_s);
