@@ -9,6 +9,8 @@
 #include <algorithm>
 #include <cmath>
 #include <cstdio>
+#include <filesystem>
+#include <string>
 
 #include "core/angles.hpp"
 #include "model_fixture.hpp"
@@ -190,6 +192,50 @@ TEST(VesselModel, RestoringForcesMatchAHandComputedRollAndPitch) {
   // Both: roll moment scales with cos(pitch).
   const Vector6 h = forces(20, 30);
   EXPECT_NEAR(h[3], -b * bg * std::sin(deg_to_rad(20)) * std::cos(deg_to_rad(30)), 1e-9);
+}
+
+// Some vehicle files carry a copy of another's dynamics (seed 004's layouts use the WAM-V's,
+// both seed ROVs the BlueROV2's, a mixer variant such as *_table its base file's). The copies
+// must stay equal to the original: every file whose name starts with a prefix of a family is
+// compared, field by field, with the family's reference file.
+TEST(VesselModel, CopiedDynamicsSectionsMatchTheirOriginal) {
+  auto same = [](const DynamicsParams& a, const DynamicsParams& b) {
+    return a.kind == b.kind && a.mass_matrix == b.mass_matrix &&
+           a.coriolis_mass_matrix == b.coriolis_mass_matrix &&
+           a.linear_damping == b.linear_damping && a.quadratic_damping == b.quadratic_damping &&
+           a.damping_center_m == b.damping_center_m &&
+           a.cross_flow.enabled == b.cross_flow.enabled &&
+           a.water_density_kg_m3 == b.water_density_kg_m3 && a.gravity_m_s2 == b.gravity_m_s2 &&
+           a.mass_kg == b.mass_kg && a.weight_n == b.weight_n && a.buoyancy_n == b.buoyancy_n &&
+           a.center_of_gravity_m == b.center_of_gravity_m &&
+           a.center_of_buoyancy_m == b.center_of_buoyancy_m &&
+           a.thruster_time_constant_s == b.thruster_time_constant_s &&
+           a.wind_coefficients == b.wind_coefficients;
+  };
+  struct Family {
+    const char* reference;
+    std::vector<std::string> prefixes;
+  };
+  const Family families[] = {{"wamv", {"seed004_usv_"}},
+                             {"seed001_rov6", {"seed001_", "seed000_"}}};
+  int compared = 0;
+  for (const auto& f : families) {
+    const auto ref = dynamics_of(f.reference);
+    for (const auto& e :
+         std::filesystem::directory_iterator(std::string(TILLER_SOURCE_DIR) + "/config/vehicles")) {
+      const std::string name = e.path().stem().string();
+      if (e.path().extension() != ".yaml" || name == f.reference) continue;
+      bool member = false;
+      for (const auto& p : f.prefixes) member = member || name.rfind(p, 0) == 0;
+      if (!member) continue;
+      ++compared;
+      EXPECT_TRUE(same(dynamics_of(name), ref)) << name << " differs from " << f.reference;
+    }
+  }
+  EXPECT_GE(compared, 4);  // seed004 x, x_table, h; seed000_rov4
+  // The only intended difference: seed 000 simulates T200 motors behind its linear mixer curve.
+  EXPECT_EQ(dynamics_of("seed000_rov4").simulator_thrust_curve, "t200_12v");
+  EXPECT_EQ(dynamics_of("seed001_rov6").simulator_thrust_curve, "");
 }
 
 TEST(VesselModel, NoThrustNoCurrentVelocitiesDecayMonotonically) {

@@ -155,8 +155,12 @@ TEST(SimLive, OdometryUnderLcmAndThrustDecaysWhenEscOutputStops) {
 }
 
 TEST(SimLive, EveryVehicleFileRunsAndPublishesOdometry) {
-  for (const char* v : {"otter", "wamv", "seed000_rov4", "seed001_rov6", "seed004_usv_x",
-                        "seed004_usv_x_table", "seed004_usv_h"}) {
+  std::vector<std::string> vehicles;  // every shipped file, so a new one is covered
+  for (const auto& e : std::filesystem::directory_iterator(kSrc + "/config/vehicles")) {
+    if (e.path().extension() == ".yaml") vehicles.push_back(e.path().stem().string());
+  }
+  ASSERT_GE(vehicles.size(), 7u);
+  for (const std::string& v : vehicles) {
     lcm::LCM lcm(kUrl);
     ASSERT_TRUE(lcm.good());
     Listener l;
