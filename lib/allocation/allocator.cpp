@@ -39,7 +39,18 @@ std::vector<int> all_cols(int n) {
 Allocator::Allocator(const Vehicle& vehicle)
     : vehicle_(vehicle), n_(vehicle.size()), strategy_(vehicle.allocation.strategy) {
   const std::string who = "vehicle '" + vehicle.name + "': ";
-  if (n_ < 1 || n_ > kMaxThrusters) throw std::invalid_argument(who + "1 to 16 thrusters");
+  const std::string file =
+      (vehicle.source_file.empty() ? std::string("<vehicle '" + vehicle.name + "'>")
+                                   : vehicle.source_file) +
+      ": ";
+  auto group_key = [&](const std::string& gname) {  // thrusters[i].group of its first thruster
+    for (int i = 0; i < vehicle.size(); ++i)
+      if (vehicle.thrusters[static_cast<std::size_t>(i)].group == gname)
+        return "thrusters[" + std::to_string(i) + "].group";
+    return std::string("thrusters[].group");
+  };
+  if (n_ < 1 || n_ > kMaxThrusters)
+    throw std::invalid_argument(file + "thrusters: expected 1 to 16 thrusters (" + who + ")");
   b_full_ = vehicle.effectiveness();
   b_ = b_full_;
   for (int i = 0; i < n_; ++i) {
@@ -82,12 +93,15 @@ Allocator::Allocator(const Vehicle& vehicle)
       std::vector<int> trial = g.axes;
       trial.push_back(ax);
       if (rank_of(rows_cols(b_full_, trial, g.idx)) > static_cast<int>(g.axes.size())) {
-        if (owner[static_cast<std::size_t>(ax)] >= 0)
-          throw std::invalid_argument(
-              who + "groups '" +
-              groups[static_cast<std::size_t>(owner[static_cast<std::size_t>(ax)])].name +
-              "' and '" + g.name + "' both act on axis " +
-              kAxisNames[static_cast<std::size_t>(ax)] + "; put those thrusters in one group");
+        if (owner[static_cast<std::size_t>(ax)] >= 0) {
+          const std::string& other =
+              groups[static_cast<std::size_t>(owner[static_cast<std::size_t>(ax)])].name;
+          throw std::invalid_argument(file + group_key(g.name) + ": groups '" + other + "' (" +
+                                      group_key(other) + ") and '" + g.name +
+                                      "' both act on axis " +
+                                      kAxisNames[static_cast<std::size_t>(ax)] +
+                                      " independently; expected those thrusters in one group");
+        }
         owner[static_cast<std::size_t>(ax)] = static_cast<int>(gi);
         g.axes = trial;
       }
@@ -95,9 +109,10 @@ Allocator::Allocator(const Vehicle& vehicle)
   }
   for (int ax : actuated)
     if (owner[static_cast<std::size_t>(ax)] < 0)
-      throw std::invalid_argument(who + "axis " +
+      throw std::invalid_argument(file + "thrusters[].group: axis " +
                                   std::string(kAxisNames[static_cast<std::size_t>(ax)]) +
-                                  " needs thrusters of several groups; merge those groups");
+                                  " needs thrusters of several groups together; expected "
+                                  "those thrusters in one group");
   // Solve order: a group that acts on another group's axes goes first.
   auto affects = [&](const Group& a, const Group& b) {
     return rows_cols(b_full_, b.axes, a.idx).cwiseAbs().maxCoeff() > 1e-9;
@@ -117,10 +132,14 @@ Allocator::Allocator(const Vehicle& vehicle)
         progress = true;
       }
     }
-    if (!progress)
-      throw std::invalid_argument(who +
-                                  "thruster groups act on each other's axes both ways; "
-                                  "merge them into one group");
+    if (!progress) {
+      std::string names;
+      for (std::size_t gi = 0; gi < groups.size(); ++gi)
+        if (!placed[gi]) names += " '" + groups[gi].name + "' (" + group_key(groups[gi].name) + ")";
+      throw std::invalid_argument(file + "thrusters[].group: groups" + names +
+                                  " act on each other's axes both ways; expected them merged "
+                                  "into one group");
+    }
   }
   for (Group& g : groups_) {
     g.rows = rows_cols(b_full_, g.axes, cols);
@@ -189,15 +208,25 @@ Allocator::Allocator(const Vehicle& vehicle)
     full_scale_.setOnes();
     for (std::size_t j = 0; j < mix_axes_.size(); ++j) {
       ThrustVec f(n_);
-      for (int i = 0; i < n_; ++i)
-        f(i) = mix_(i, static_cast<Eigen::Index>(j)) *
-               vehicle.thrusters[static_cast<std::size_t>(i)].max_forward_n;
+      for (int i = 0; i < n_; ++i) {
+        const Thruster& t = vehicle.thrusters[static_cast<std::size_t>(i)];
+        const double e = mix_(i, static_cast<Eigen::Index>(j));
+        // Commands: the motor's own curve, as if wired the right way round, so that reversing
+        // a motor (wiring) does not change what the table sends.
+        f(i) = vehicle.allocation.matrix_commands ? t.curve.thrust(std::clamp(e, -1.0, 1.0))
+                                                  : e * t.max_forward_n;
+      }
       const double w = (b_ * f)(mix_axes_[j]);
       if (!(std::abs(w) > 1e-9))
         throw std::invalid_argument(
-            who + "mixing matrix column " +
+            file + "allocation.mixing" +
+            (vehicle.allocation.matrix_key.empty() ? std::string()
+                                                   : "." + vehicle.allocation.matrix_key) +
+            ": column " + std::to_string(j) + " (axis " +
             std::string(kAxisNames[static_cast<std::size_t>(mix_axes_[j])]) +
-            " produces nothing on that axis with this geometry");
+            ") produces nothing on that axis with this geometry; expected a column whose "
+            "thrusters push or turn the vehicle along it (check the rows and the thrusters' "
+            "position / direction)");
       full_scale_(mix_axes_[j]) = std::abs(w);
     }
   }
@@ -686,23 +715,52 @@ void Allocator::allocate_matrix(const Wrench& tau_norm, AllocationResult& out) c
   Eigen::Matrix<double, Eigen::Dynamic, 1, 0, 6, 1> x(static_cast<Eigen::Index>(mix_axes_.size()));
   for (std::size_t j = 0; j < mix_axes_.size(); ++j)
     x(static_cast<Eigen::Index>(j)) = tau_norm(mix_axes_[j]);
-  const ThrustVec sv = mix_ * x;
-  ThrustVec f(n_);
-  for (int i = 0; i < n_; ++i)
-    f(i) = sv(i) * vehicle_.thrusters[static_cast<std::size_t>(i)].max_forward_n;
+  ThrustVec sv = mix_ * x;
+  const bool commands = vehicle_.allocation.matrix_commands;
+  const bool always = vehicle_.allocation.normalise_always;
   out.target.setZero();
   for (int ax : mix_axes_) out.target(ax) = tau_norm(ax) * full_scale_(ax);
+  ThrustVec f(n_);
+  if (!commands)
+    for (int i = 0; i < n_; ++i)
+      f(i) = sv(i) * vehicle_.thrusters[static_cast<std::size_t>(i)].max_forward_n;
   for (const Group& g : groups_) {
     if (strategy_ == Strategy::kClip) continue;  // finish() clips
-    ThrustVec fg(static_cast<Eigen::Index>(g.idx.size()));
-    for (std::size_t k = 0; k < g.idx.size(); ++k) fg(static_cast<Eigen::Index>(k)) = f(g.idx[k]);
-    const double mu = max_scale(g, fg, ThrustVec::Zero(fg.size()));
-    if (mu < 1.0) {  // ratio-keeping normalisation
-      for (int i : g.idx) f(i) *= mu;
-      out.scale = std::min(out.scale, mu);
+    // Ratio-keeping normalisation: the factor that brings the group's largest value to its
+    // limit (commands: magnitude 1; thrust fractions: the thruster's own forward / reverse
+    // limit); applied when it is < 1, or always (normalise: always).
+    double mu = kInf;
+    if (commands) {
+      double mx = 0;
+      for (int i : g.idx) mx = std::max(mx, std::abs(sv(i)));
+      if (mx > 0) mu = 1.0 / mx;
+    } else {
+      ThrustVec fg(static_cast<Eigen::Index>(g.idx.size()));
+      for (std::size_t k = 0; k < g.idx.size(); ++k) fg(static_cast<Eigen::Index>(k)) = f(g.idx[k]);
+      mu = max_scale(g, fg, ThrustVec::Zero(fg.size()));
+    }
+    if (mu < 1.0 || (always && std::isfinite(mu))) {
+      for (int i : g.idx) {
+        sv(i) *= mu;
+        f(i) *= mu;
+      }
+      out.scale = std::min(out.scale, mu);  // a scale-up (always) leaves it at 1
     }
   }
+  if (!commands) {
+    finish(f, out);
+    return;
+  }
+  // Commands are what the table says, sent as they are (within the commands that keep each
+  // thruster inside its own thrust limits); the thrust is the curve's at them.
+  for (int i = 0; i < n_; ++i) {
+    const Thruster& t = vehicle_.thrusters[static_cast<std::size_t>(i)];
+    sv(i) = std::clamp(sv(i), t.command_from_thrust(lo_[static_cast<std::size_t>(i)]),
+                       t.command_from_thrust(hi_[static_cast<std::size_t>(i)]));
+    f(i) = t.thrust_from_command(sv(i));
+  }
   finish(f, out);
+  for (int i = 0; i < n_; ++i) out.command[static_cast<std::size_t>(i)] = sv(i);
 }
 
 bool Allocator::finish(ThrustVec& f, AllocationResult& out) const {

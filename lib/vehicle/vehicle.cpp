@@ -158,7 +158,12 @@ AllocationSpec load_allocation(const config::Value& a, const Vehicle& v) {
     if (s.strategy == Strategy::kPrioritised)
       m->fail("no mixing matrix with strategy prioritised (it needs the geometry)");
     const int n = v.size();
+    s.matrix_commands = m->choice("units", {"thrust_fraction", "command"}) == "command";
+    s.normalise_always = m->choice("normalise", {"above_one", "always"}) == "always";
+    if (m->find("x_drive") && m->find("rows"))
+      m->at("rows").fail("either x_drive or axes + rows, not both");
     if (auto x = m->find("x_drive")) {
+      s.matrix_key = "x_drive";
       const double k = x->number("rear_strafe_reduction", {0.0, 2.0});
       const auto names = x->at("thrusters");
       if (names.size() != 4 || n != 4)
@@ -172,20 +177,27 @@ AllocationSpec load_allocation(const config::Value& a, const Vehicle& v) {
         s.matrix.row(idx) = table.row(r);
       }
     } else {
+      s.matrix_key = "rows";
       s.matrix_axes = load_axes(m->at("axes"));
       if (s.matrix_axes.empty()) m->at("axes").fail("at least one axis");
       const auto rows = m->at("rows");
       s.matrix = Eigen::MatrixXd::Zero(n, static_cast<Eigen::Index>(s.matrix_axes.size()));
       std::set<int> filled;
+      if (!rows.is_map()) rows.fail("a map from thruster name to a row of numbers");
       for (const auto& key : rows.keys()) {
         const int idx = v.index_of(key);
-        if (idx < 0) rows.at(key).fail("a row named after a thruster of this vehicle");
+        if (idx < 0)
+          rows.at(key).fail("a row named after a thruster of this vehicle ('" + key +
+                            "' is not one)");
         const auto r = rows.numbers(key, s.matrix_axes.size(), {-100.0, 100.0});
         for (std::size_t j = 0; j < r.size(); ++j)
           s.matrix(idx, static_cast<Eigen::Index>(j)) = r[j];
         filled.insert(idx);
       }
-      if (static_cast<int>(filled.size()) != n) rows.fail("one row per thruster");
+      for (int i = 0; i < n; ++i)
+        if (!filled.count(i))
+          rows.fail("one row per thruster (missing: " +
+                    v.thrusters[static_cast<std::size_t>(i)].name + ")");
     }
   }
   return s;

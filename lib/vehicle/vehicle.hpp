@@ -67,12 +67,22 @@ struct AllocationSpec {
   // Prioritised: levels of axis indices, first level first; axes of one level are scaled
   // together. Every axis appears exactly once (the loader appends missing ones in X..N order).
   std::vector<std::vector<int>> priority;
-  // Explicit mixing matrix (seed tables) instead of geometry: thrust fraction s = M * tau_norm,
-  // thrust_i = s_i * thrust_max_i; tau_norm_j = tau_j / full_scale_j (full_scale computed from
+  // Explicit mixing matrix (seed tables) instead of geometry: s = M * tau_norm (see
+  // matrix_commands for what s is); tau_norm_j = tau_j / full_scale_j (full_scale computed from
   // the geometry when the allocator is built). Empty when the geometry is used.
   std::vector<int> matrix_axes;  // axis indices of M's columns
   Eigen::MatrixXd matrix;        // n_thrusters x matrix_axes.size()
   bool has_matrix() const { return !matrix_axes.empty(); }
+  // `mixing.units`: what a row entry is. thrust_fraction: s_i is a fraction of the thruster's
+  // forward limit (thrust_i = s_i * max_forward_n, linear in the demand). command: s_i is the
+  // thruster command itself (what seeds 001 and 004 compute: duty cycle / motor command), sent
+  // as it is; thrust_i = the curve's thrust at s_i.
+  bool matrix_commands = false;
+  // `mixing.normalise`: ratio-keeping normalisation per group. above_one: divide the group's
+  // values by the largest magnitude only when it exceeds 1 (its limit); always: divide so that
+  // the largest magnitude is exactly 1 (scaling small demands up).
+  bool normalise_always = false;
+  std::string matrix_key;  // "x_drive" or "rows", for messages
 };
 
 struct Vehicle {

@@ -172,21 +172,27 @@ Six seed001_text(const Joy& j) {  // the text: F,B and the four vectored scaled 
   return sp;
 }
 
-// The seed's table as an explicit-matrix vehicle on seed001_rov6's geometry with equal,
-// symmetric, linear thrusters (what its duty-cycle code assumes).
+// The seed's tables as a vehicle file: config/vehicles/seed001_rov6_table.yaml (duty cycles,
+// groups vertical / horizontal, normalise only above 1).
 Vehicle seed001_table_vehicle() {
-  Vehicle v = preset("seed001_rov6");
-  for (auto& t : v.thrusters) {
-    t.curve = ThrustCurve::linear(1.0, 1.0);
-    t.max_forward_n = t.max_reverse_n = 1.0;
+  return preset("seed001_rov6_table");
+}
+
+TEST(Seed001, TheTableFileHoldsTheSeedsArrays) {
+  const Vehicle v = seed001_table_vehicle();
+  ASSERT_EQ(v.allocation.matrix_axes, (std::vector<int>{0, 1, 2, 4, 5}));  // X Y Z M N
+  const char* order[6] = {"F", "LF", "RF", "B", "LB", "RB"};
+  for (std::size_t i = 0; i < 6; ++i) {
+    const int r = v.index_of(order[i]);
+    ASSERT_GE(r, 0);
+    EXPECT_EQ(v.allocation.matrix(r, 0), f_arr[i]);
+    EXPECT_EQ(v.allocation.matrix(r, 1), s_arr[i]);
+    EXPECT_EQ(v.allocation.matrix(r, 2), -e_arr[i]);  // FRD: elevation up is -Z
+    EXPECT_EQ(v.allocation.matrix(r, 3), p_arr[i]);
+    EXPECT_EQ(v.allocation.matrix(r, 4), y_arr[i]);
   }
-  v.allocation.matrix_axes = {0, 1, 2, 4, 5};  // X Y Z M N
-  v.allocation.matrix.resize(6, 5);
-  for (int i = 0; i < 6; ++i) {
-    const auto k = static_cast<std::size_t>(i);
-    v.allocation.matrix.row(i) << f_arr[k], s_arr[k], -e_arr[k], p_arr[k], y_arr[k];
-  }
-  return v;
+  EXPECT_TRUE(v.allocation.matrix_commands);
+  EXPECT_FALSE(v.allocation.normalise_always);
 }
 
 Wrench stick_from_joy(const Joy& j) {  // to FRD: Z = -elevate
@@ -295,25 +301,34 @@ Vehicle shifted(Vehicle v, double dx) {  // move the CG forward by dx: thrusters
   return v;
 }
 
+// The seed's table read as thrust fractions (equal thrust both ways as far as the table is
+// concerned), to look at k alone: the preset sends commands, whose -1 is only -100 N.
+Vehicle x_table_in_thrust() {
+  Vehicle v = preset("seed004_usv_x_table");
+  v.allocation.matrix_commands = false;
+  v.allocation.normalise_always = false;
+  return v;
+}
+
 TEST(Seed004, TableOnlyFitsTheHullItWasTunedFor) {
   Wrench strafe = Wrench::Zero();
   strafe(1) = 200;
   AllocationResult r;
   // As tuned: the table's strafe makes no yaw.
-  const Allocator table(preset("seed004_usv_x_table"));
+  const Allocator table(x_table_in_thrust());
   ASSERT_TRUE(table.allocate(strafe, r));
   EXPECT_NEAR(r.achieved(1), 200, 1e-9);
   EXPECT_NEAR(r.achieved(5), 0, 1e-9);
   EXPECT_NEAR(r.achieved(0), 0, 1e-9);
   // Without the rear reduction (k = 1), strafing turns the boat.
-  Vehicle k1 = preset("seed004_usv_x_table");
+  Vehicle k1 = x_table_in_thrust();
   k1.allocation.matrix.row(2) = x_drive_table(1.0).row(2);
   k1.allocation.matrix.row(3) = x_drive_table(1.0).row(3);
   ASSERT_TRUE(Allocator(k1).allocate(strafe, r));
   EXPECT_LT(r.achieved(5), -50.0);  // rear pair too strong: the stern swings, N m
   EXPECT_TRUE(r.axis_reduced[5]);   // and the status says so
   // CG 0.3 m further forward: the table's k = 0.6 is now wrong, the geometry adapts.
-  const Vehicle moved = shifted(preset("seed004_usv_x_table"), 0.3);
+  const Vehicle moved = shifted(x_table_in_thrust(), 0.3);
   ASSERT_TRUE(Allocator(moved).allocate(strafe, r));
   EXPECT_GT(std::abs(r.achieved(5)), 20.0);
   Vehicle moved_geo = shifted(preset("seed004_usv_x"), 0.3);
@@ -325,25 +340,103 @@ TEST(Seed004, TableOnlyFitsTheHullItWasTunedFor) {
   EXPECT_NEAR(-r.thrust[2] / r.thrust[0], 1.74 / 3.70, 1e-9);
 }
 
-TEST(Seed004, RatioKeepingNormalisation) {
+// Seed 004's motor_cmd_generator in its own frame (FLU, torque counter-clockwise), commands.
+std::array<double, 4> seed004_table(double fx, double fy, double t, double k) {
+  return {-fy + fx - t, fy + fx + t, k * fy + fx - t, -k * fy + fx + t};  // LF RF LR RR
+}
+// Its text: "the commands to all thrusters are scaled so that the maximum magnitude is 1.0, but
+// the ratios of all thruster commands are kept": always.
+std::array<double, 4> seed004_text(double fx, double fy, double t, double k) {
+  auto c = seed004_table(fx, fy, t, k);
+  double mx = 0;
+  for (double v : c) mx = std::max(mx, std::abs(v));
+  if (mx > 0)
+    for (double& v : c) v /= mx;
+  return c;
+}
+// Its code: divides only when the largest exceeds 1.0.
+std::array<double, 4> seed004_code(double fx, double fy, double t, double k) {
+  auto c = seed004_table(fx, fy, t, k);
+  double mx = 0;
+  for (double v : c) mx = std::max(mx, std::abs(v));
+  if (mx > 1.0)
+    for (double& v : c) v /= mx;
+  return c;
+}
+Wrench stick_from_flu(double fx, double fy, double t) {  // FRD: Y = -Fy, N = -T
+  Wrench w = Wrench::Zero();
+  w(0) = fx;
+  w(1) = -fy;
+  w(5) = -t;
+  return w;
+}
+
+TEST(Seed004, TableCommandsAreTheSeedsTextOverAGrid) {
   const Allocator a(preset("seed004_usv_x_table"));
   AllocationResult r;
-  // Small demand: s = M*J, thrust = s * 250 N, never scaled up.
+  int cases = 0, scaled_up = 0, scaled_down = 0;
+  for (int ix = -10; ix <= 10; ++ix)
+    for (int iy = -10; iy <= 10; ++iy)
+      for (int it = -10; it <= 10; ++it) {
+        const double fx = ix / 10.0, fy = iy / 10.0, t = it / 10.0;
+        ASSERT_TRUE(a.allocate_manual(stick_from_flu(fx, fy, t), r));
+        const auto want = seed004_text(fx, fy, t, 0.6);
+        for (std::size_t i = 0; i < 4; ++i) ASSERT_NEAR(r.command[i], want[i], 1e-12);
+        const auto raw = seed004_table(fx, fy, t, 0.6);
+        double mx = 0;
+        for (double v : raw) mx = std::max(mx, std::abs(v));
+        if (mx > 1) ++scaled_down;
+        if (mx > 0 && mx < 1) ++scaled_up;
+        ++cases;
+      }
+  EXPECT_EQ(cases, 21 * 21 * 21);
+  EXPECT_GT(scaled_down, 3000);
+  EXPECT_GT(scaled_up, 100);
+}
+
+TEST(Seed004, TextScalesAlwaysWhereItsCodeScalesOnlyAboveOne) {
+  // A tenth of full surge: the code sends 0.1 to every motor, the text's "scaled so that the
+  // maximum magnitude is 1.0" sends 1.0; Tiller follows the text (normalise: always).
+  const auto code = seed004_code(0.1, 0, 0, 0.6), text = seed004_text(0.1, 0, 0, 0.6);
+  EXPECT_NEAR(code[0], 0.1, 1e-15);
+  EXPECT_NEAR(text[0], 1.0, 1e-15);
+  const Allocator a(preset("seed004_usv_x_table"));
+  AllocationResult r;
+  ASSERT_TRUE(a.allocate_manual(stick_from_flu(0.1, 0, 0), r));
+  for (std::size_t i = 0; i < 4; ++i) EXPECT_NEAR(r.command[i], 1.0, 1e-12);
+  EXPECT_EQ(r.scale, 1.0);  // a scale-up is not a reduction
+  // Zero stays zero (nothing to normalise).
+  ASSERT_TRUE(a.allocate_manual(Wrench::Zero(), r));
+  for (std::size_t i = 0; i < 4; ++i) EXPECT_EQ(r.command[i], 0.0);
+  // The same file with `normalise: above_one` is the code's behaviour.
+  Vehicle v = preset("seed004_usv_x_table");
+  v.allocation.normalise_always = false;
+  const Allocator b(v);
+  ASSERT_TRUE(b.allocate_manual(stick_from_flu(0.1, 0, 0), r));
+  for (std::size_t i = 0; i < 4; ++i) EXPECT_NEAR(r.command[i], 0.1, 1e-12);
+}
+
+TEST(Seed004, RatioKeepingNormalisationKeepsCommandRatiosNotThrustRatios) {
+  // Full surge + strafe right + yaw clockwise in FRD (the seed's Fx = 1, Fy = -1, T = -1):
+  // commands s = (3, -1, 1.4, 0.6); divided by 3: (1, -0.333, 0.467, 0.2), the COMMANDS keep
+  // their ratios. With the -100 N reverse side, RF's -0.333 is -33.3 N. (Thrust fractions of
+  // max_forward_n would instead give (1, -0.833, ...) in commands.)
+  const Allocator a(preset("seed004_usv_x_table"));
+  AllocationResult r;
   Wrench j = Wrench::Zero();
-  j(0) = 0.1;
-  ASSERT_TRUE(a.allocate_manual(j, r));
-  for (int i = 0; i < 4; ++i) EXPECT_NEAR(r.thrust[static_cast<std::size_t>(i)], 25.0, 1e-9);
-  EXPECT_EQ(r.scale, 1.0);
-  // Full surge + strafe + yaw: s = (3, -1, 1.4, 0.6) -> thrust (750, -250, 350, 150) N; RF may
-  // only give -100 N, LF +250 N: all divided by 3 -> (250, -83.33, 116.67, 50).
   j << 1, 1, 0, 0, 0, 1;
   ASSERT_TRUE(a.allocate_manual(j, r));
+  const double want[4] = {1.0, -1.0 / 3, 1.4 / 3, 0.2};
+  for (std::size_t i = 0; i < 4; ++i) EXPECT_NEAR(r.command[i], want[i], 1e-12);
+  EXPECT_NEAR(r.command[1] / r.command[0], -1.0 / 3, 1e-12);
   EXPECT_NEAR(r.thrust[0], 250.0, 1e-9);
-  EXPECT_NEAR(r.thrust[1], -250.0 / 3, 1e-9);
-  EXPECT_NEAR(r.thrust[2], 350.0 / 3, 1e-9);
-  EXPECT_NEAR(r.thrust[3], 50.0, 1e-9);
+  EXPECT_NEAR(r.thrust[1], -100.0 / 3, 1e-9);
+  EXPECT_NEAR(r.thrust[2], 1.4 / 3 * 250, 1e-9);
   EXPECT_NEAR(r.scale, 1.0 / 3, 1e-12);
   EXPECT_TRUE(r.saturated[0]);
+  // The wrench path uses the same table: tau_norm = tau / full_scale, full_scale from the
+  // geometry (X: all four at +1 -> 4 * 250 / sqrt 2).
+  EXPECT_NEAR(a.full_scale()(0), 1000 / std::sqrt(2.0), 1e-9);
 }
 
 TEST(Seed004, HDriveSideThrustersOnlyStrafeAndNeverTurn) {

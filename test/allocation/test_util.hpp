@@ -17,7 +17,7 @@ namespace tiller::test {
 inline const std::vector<std::string>& preset_names() {
   static const std::vector<std::string> names = {
       "seed000_rov4",  "seed001_rov6", "seed004_usv_x", "seed004_usv_x_table",
-      "seed004_usv_h", "otter",        "wamv"};
+      "seed004_usv_h", "otter",        "wamv",          "seed001_rov6_table"};
   return names;
 }
 
@@ -90,6 +90,13 @@ inline double brute_max_scale(const Vehicle& v, const std::array<bool, 6>& unact
     }
   }
   return best;
+}
+
+// A seed table in thruster commands: its commands are what the seed sends, not a solution for
+// the demanded wrench (non-linear or asymmetric curves, `normalise: always`), so the wrench
+// invariants do not apply; seeds_test.cpp checks these against the seeds' formulas instead.
+inline bool command_table(const Vehicle& v) {
+  return v.allocation.has_matrix() && v.allocation.matrix_commands;
 }
 
 // Same vehicle with another strategy (and the default priority X Y Z N M K when needed).

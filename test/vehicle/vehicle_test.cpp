@@ -31,7 +31,7 @@ struct Preset {
 };
 const Preset kPresets[] = {
     {"seed000_rov4", 4},  {"seed001_rov6", 6}, {"seed004_usv_x", 4}, {"seed004_usv_x_table", 4},
-    {"seed004_usv_h", 6}, {"otter", 2},        {"wamv", 2}};
+    {"seed004_usv_h", 6}, {"otter", 2},        {"wamv", 2},          {"seed001_rov6_table", 6}};
 
 TEST(Vehicle, EveryPresetLoads) {
   for (const auto& p : kPresets) {
@@ -230,6 +230,75 @@ TEST(VehicleLoader, RefusesBadFilesNamingFileKeyAndExpectation) {
   EXPECT_NE(e.find("allocation.strategy"), std::string::npos) << e;
   e = err("  - {name: a", "  - {nme: x, name: a");
   EXPECT_NE(e.find("nme"), std::string::npos) << e;
+}
+
+const char* kTable = R"(name: table
+thrusters:
+  - {name: a, position: [0.5, 0, 0], direction: [1, 0, 0], max_forward_n: 30, max_reverse_n: 20,
+     curve: t200_12v, group: g, reversed: false}
+  - {name: b, position: [-0.5, 0.2, 0], direction: [0, 1, 0], max_forward_n: 10, max_reverse_n: 10,
+     curve: {table: {command: [-1, 0, 1], thrust_n: [-10, 0, 10]}}, group: g, reversed: true}
+allocation:
+  strategy: direction_preserving
+  mixing:
+    units: command
+    normalise: above_one
+    axes: [X, Y]
+    rows:
+      a: [1, 0]
+      b: [0, 1]
+)";
+
+TEST(VehicleLoader, ReadsAMixingTable) {
+  const Vehicle v = parse(kTable);
+  ASSERT_TRUE(v.allocation.has_matrix());
+  EXPECT_EQ(v.allocation.matrix_axes, (std::vector<int>{0, 1}));
+  EXPECT_TRUE(v.allocation.matrix_commands);
+  EXPECT_FALSE(v.allocation.normalise_always);
+  EXPECT_EQ(v.allocation.matrix(1, 1), 1.0);
+  // The seed presets: seed 001 (rows) and seed 004 (x_drive), both in commands.
+  const Vehicle s1 = load_vehicle_file(kVehicles + "seed001_rov6_table.yaml");
+  EXPECT_TRUE(s1.allocation.matrix_commands);
+  EXPECT_FALSE(s1.allocation.normalise_always);
+  EXPECT_EQ(s1.allocation.matrix_axes, (std::vector<int>{0, 1, 2, 4, 5}));
+  const Vehicle s4 = load_vehicle_file(kVehicles + "seed004_usv_x_table.yaml");
+  EXPECT_TRUE(s4.allocation.matrix_commands);
+  EXPECT_TRUE(s4.allocation.normalise_always);
+}
+
+TEST(VehicleLoader, RefusesBadMixingRowsNamingFileKeyAndExpectation) {
+  auto err = [&](const std::string& from, const std::string& to) {
+    std::string text = kTable;
+    const auto pos = text.find(from);
+    EXPECT_NE(pos, std::string::npos) << from;
+    text.replace(pos, from.size(), to);
+    return error_of([&] { parse(text); });
+  };
+  // A row named after no thruster.
+  std::string e = err("      b: [0, 1]", "      b: [0, 1]\n      c: [1, 1]");
+  EXPECT_NE(e.find("veh.yaml"), std::string::npos) << e;
+  EXPECT_NE(e.find("allocation.mixing.rows.c"), std::string::npos) << e;
+  EXPECT_NE(e.find("a row named after a thruster of this vehicle"), std::string::npos) << e;
+  // A thruster without a row.
+  e = err("      b: [0, 1]\n", "");
+  EXPECT_NE(e.find("veh.yaml"), std::string::npos) << e;
+  EXPECT_NE(e.find("allocation.mixing.rows"), std::string::npos) << e;
+  EXPECT_NE(e.find("one row per thruster (missing: b)"), std::string::npos) << e;
+  // A row of the wrong length.
+  e = err("a: [1, 0]", "a: [1, 0, 0]");
+  EXPECT_NE(e.find("veh.yaml"), std::string::npos) << e;
+  EXPECT_NE(e.find("allocation.mixing.rows.a"), std::string::npos) << e;
+  EXPECT_NE(e.find("2 numbers"), std::string::npos) << e;
+  // Units and normalisation must be said.
+  e = err("    units: command\n", "");
+  EXPECT_NE(e.find("allocation.mixing.units"), std::string::npos) << e;
+  EXPECT_NE(e.find("command"), std::string::npos) << e;
+  e = err("normalise: above_one", "normalise: sometimes");
+  EXPECT_NE(e.find("allocation.mixing.normalise"), std::string::npos) << e;
+  EXPECT_NE(e.find("always"), std::string::npos) << e;
+  e = err("axes: [X, Y]", "axes: [X, W]");
+  EXPECT_NE(e.find("allocation.mixing.axes"), std::string::npos) << e;
+  EXPECT_NE(e.find("an axis name"), std::string::npos) << e;
 }
 
 }  // namespace
