@@ -8,8 +8,9 @@
 // constant over a step): nu_c = [R^T v_c; 0], nu_c_dot = [-omega x nu_c; 0] (Fossen Property
 // 10.1). C is the Coriolis-centripetal matrix of the total mass matrix (rigid body + added mass,
 // Fossen Theorem 3.2; or of DynamicsParams::coriolis_mass_matrix if a file sets one), evaluated
-// at the relative velocity; it is skew-symmetric, so it moves no energy. D is linear + quadratic diagonal damping (+ strip-theory cross-flow drag on surface
-// vessels). g is the restoring force of weight and buoyancy (underwater_6dof only).
+// at the relative velocity; it is skew-symmetric, so it moves no energy. D is linear + quadratic
+// diagonal damping (+ strip-theory cross-flow drag on surface vessels). g is the restoring force of
+// weight and buoyancy (underwater_6dof only).
 //
 // Thrusters: each pushes along its unit direction at its position (body FRD from the reference
 // point) with a thrust in N. The thrust follows its target with a first-order lag
