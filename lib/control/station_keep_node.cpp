@@ -39,6 +39,7 @@ StationKeepNode::StationKeepNode(const StationKeepNodeParams& p)
   advertise<pid_terms_t>(channels::kPidStation);
   nan_odometry_ = &counter("rejected.odometry.nan");
   bad_target_ = &counter("rejected.target.invalid");
+  bad_velocity_wrench_ = &counter("rejected.wrench_velocity.nan");
 }
 
 void StationKeepNode::on_odometry(const odometry_t& m, TimeUs now) {
@@ -71,7 +72,10 @@ void StationKeepNode::on_allocation(const allocation_status_t& m, TimeUs now) {
 }
 
 void StationKeepNode::on_velocity_wrench(const wrench_t& m, TimeUs now) {
-  if (!all_finite(m.tau)) return;
+  if (!all_finite(m.tau)) {
+    reject(*bad_velocity_wrench_);  // dropped: the last good one (or none) stays in force
+    return;
+  }
   velocity_wrench_ = m;
   velocity_fresh_.mark(now);
 }

@@ -58,7 +58,7 @@ class StationKeepNode : public Node {
   Freshness velocity_fresh_;
   Blend blend_;
   bool was_active_ = false;
-  std::int64_t *nan_odometry_, *bad_target_;
+  std::int64_t *nan_odometry_, *bad_target_, *bad_velocity_wrench_;
 };
 
 }  // namespace tiller::control

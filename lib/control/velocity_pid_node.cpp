@@ -46,6 +46,7 @@ VelocityPidNode::VelocityPidNode(const VelocityPidNodeParams& p)
   bad_manual_ = &counter("rejected.manual.invalid");
   bad_progress_ = &counter("rejected.progress.invalid");
   bad_mode_ = &counter("rejected.mode.invalid");
+  bad_station_wrench_ = &counter("rejected.wrench_station.nan");
 }
 
 void VelocityPidNode::on_odometry(const odometry_t& m, TimeUs now) {
@@ -102,7 +103,10 @@ void VelocityPidNode::on_allocation(const allocation_status_t& m, TimeUs now) {
 }
 
 void VelocityPidNode::on_station_wrench(const wrench_t& m, TimeUs now) {
-  if (!all_finite(m.tau)) return;
+  if (!all_finite(m.tau)) {
+    reject(*bad_station_wrench_);  // dropped: the last good one (or none) stays in force
+    return;
+  }
   station_wrench_ = m;
   station_fresh_.mark(now);
 }

@@ -71,7 +71,8 @@ class VelocityPidNode : public Node {
   Blend blend_;
   bool was_active_ = false;
   std::int8_t prev_source_ = -1;  // the arbiter's source at the previous tick
-  std::int64_t *nan_odometry_, *bad_setpoint_, *bad_manual_, *bad_progress_, *bad_mode_;
+  std::int64_t *nan_odometry_, *bad_setpoint_, *bad_manual_, *bad_progress_, *bad_mode_,
+      *bad_station_wrench_;
 };
 
 }  // namespace tiller::control

@@ -1,6 +1,7 @@
 // The velocity-PID node (with the arbiter) and the station-keep node: arbitration on the bus,
 // integrators reset on entry and frozen by the mixer's status, NaN odometry dropped and
-// counted, odometry that stops -> neutral or hold by config within the freshness limit.
+// counted, odometry that stops -> neutral or hold by config within the freshness limit (both
+// nodes), a NaN wrench from the other controller dropped and counted.
 #include <gtest/gtest.h>
 
 #include <tiller/arbitration_t.hpp>
@@ -41,6 +42,7 @@ struct Bus {
   arbitration_t arb{};
   pid_terms_t pv{};
   int n_arb = 0;
+  std::int64_t stale = 0;  // the node's stale counter at the end
 };
 
 void watch(LockstepExecutor& ex, Bus& b) {
@@ -210,6 +212,85 @@ TEST(StationKeepNode, ActsOnlyWhenArbitratedAndHoldsArrivalHeading) {
   // Odometry stopped at 1.95 s: neutral once older than the 0.5 s limit.
   ex.run_until(2'500'000);
   EXPECT_EQ(b.ws.tau[0], 0.0);
+}
+
+// Station keeping in control of a target 1 m ahead, odometry stopping at 1 s (last at 0.95 s).
+Bus station_until_stale(StaleAction action, TimeUs end) {
+  auto p = load_station_keep_node_params(config::Value::load_file(kOtter));
+  p.common.on_stale = action;
+  p.common.odometry_timeout_s = 0.5;
+  p.common.hold_s = 0.5;
+  StationKeepNode node(p);
+  LockstepExecutor ex(0);
+  ex.add(node);
+  Bus b;
+  watch(ex, b);
+  station_target_t st{};
+  st.active = true;
+  st.position[0] = 1.0;
+  st.heading_valid = true;
+  arbitration_t arb{};
+  arb.active_source = wrench_t::SOURCE_STATION_KEEP;
+  arb.reason = "test";
+  for (TimeUs t = 0; t < end; t += 50'000) {
+    st.utime = arb.utime = t;
+    ex.inject(channels::kStationTarget, st, t);
+    ex.inject(channels::kArbitration, arb, t);
+  }
+  feed(ex, 0, 1'000'000);
+  ex.run_until(end);
+  b.stale = node.stale();
+  return b;
+}
+
+TEST(StationKeepNode, OdometryThatStopsGivesNeutralWithinTheFreshnessLimit) {
+  EXPECT_GT(station_until_stale(StaleAction::kNeutral, 1'450'000).ws.tau[0], 20.0);  // fresh
+  const auto b = station_until_stale(StaleAction::kNeutral, 1'500'000);  // 0.55 s after the last
+  EXPECT_TRUE(b.ws.valid);
+  EXPECT_EQ(b.ws.tau[0], 0.0);
+  EXPECT_EQ(b.ws.tau[5], 0.0);
+}
+
+TEST(StationKeepNode, OdometryThatStopsHoldsTheLastWrenchThenNeutral) {
+  const auto fresh = station_until_stale(StaleAction::kHold, 1'000'000);
+  const auto held = station_until_stale(StaleAction::kHold, 1'900'000);  // within hold_s
+  EXPECT_GT(held.ws.tau[0], 20.0);
+  EXPECT_EQ(held.ws.tau[0], fresh.ws.tau[0]);  // the last wrench computed from fresh odometry
+  EXPECT_GE(held.stale, 1);                    // the stale odometry is counted
+  const auto later = station_until_stale(StaleAction::kHold, 2'000'000);  // 1.05 s after: neutral
+  EXPECT_TRUE(later.ws.valid);
+  EXPECT_EQ(later.ws.tau[0], 0.0);
+}
+
+// A NaN in the other controller's wrench (used for the bumpless hand-over) is dropped and
+// counted, in both nodes; the outputs stay finite.
+TEST(ControllerNodes, NanWrenchFromTheOtherControllerIsDroppedAndCounted) {
+  auto vp = load_velocity_pid_node_params(config::Value::load_file(kOtter));
+  auto sp = load_station_keep_node_params(config::Value::load_file(kOtter));
+  VelocityPidNode v(vp);
+  StationKeepNode s(sp);
+  LockstepExecutor ex(0);
+  ex.add(v);
+  ex.add(s);
+  Bus b;
+  watch(ex, b);
+  feed(ex, 0, 500'000);
+  wrench_t w{};
+  w.valid = true;
+  w.tau[0] = NAN;
+  w.source = wrench_t::SOURCE_STATION_KEEP;
+  ex.inject(channels::kWrenchStation, w, 200'000);
+  w.source = wrench_t::SOURCE_VELOCITY_PID;
+  w.tau[0] = 1.0;
+  w.tau[5] = INFINITY;
+  ex.inject(channels::kWrenchVelocity, w, 250'000);
+  ex.run_until(400'000);
+  EXPECT_EQ(v.counter_value("rejected.wrench_station.nan"), 1);
+  EXPECT_EQ(s.counter_value("rejected.wrench_velocity.nan"), 1);
+  EXPECT_GE(v.rejected(), 1);
+  EXPECT_GE(s.rejected(), 1);
+  for (double x : b.wv.tau) EXPECT_TRUE(std::isfinite(x));
+  for (double x : b.ws.tau) EXPECT_TRUE(std::isfinite(x));
 }
 
 }  // namespace
