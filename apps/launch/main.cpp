@@ -10,6 +10,7 @@
 
 #include <algorithm>
 #include <climits>
+#include <cmath>
 #include <csignal>
 #include <cstring>
 #include <ctime>
@@ -40,6 +41,18 @@ std::vector<std::string> split_list(const std::string& s) {
   return out;
 }
 
+// What lcm-logger appends to the file name: .0 with rotate (the newest), .00 with split parts.
+std::string log_suffix(const LoggerSpec& l) {
+  return l.rotate > 0 ? ".0" : l.split_mb > 0 ? ".00" : "";
+}
+std::string logtools_stem(const std::string& log_file) {
+  const std::string ext = ".lcmlog";
+  if (log_file.size() > ext.size() &&
+      log_file.compare(log_file.size() - ext.size(), ext.size(), ext) == 0)
+    return log_file.substr(0, log_file.size() - ext.size());
+  return log_file;
+}
+
 std::string default_status_file(const std::string& launch_name) {
   const char* run = std::getenv("XDG_RUNTIME_DIR");
   return std::string(run && *run ? run : "/tmp") + "/tiller-launch-" + launch_name + ".status";
@@ -52,6 +65,70 @@ std::string now_stamp() {
   char buf[64];
   std::strftime(buf, sizeof buf, "%Y-%m-%d-%H%M%S", &tm);
   return buf;
+}
+
+// --status-every: a number of seconds in [0, 86400], checked before anything starts.
+double seconds_option(const app::Args& a, const std::string& name) {
+  const std::string& s = a.get(name);
+  std::size_t used = 0;
+  double v = NAN;
+  try {
+    v = std::stod(s, &used);
+  } catch (const std::exception&) {
+    used = 0;
+  }
+  if (used != s.size() || !std::isfinite(v) || v < 0 || v > 86400)
+    throw std::invalid_argument(
+        "--" + name + ": expected a number of seconds from 0 to 86400, got \"" + s + "\"");
+  return v;
+}
+
+// YAML double-quoted scalar.
+std::string q(const std::string& s) {
+  std::string o = "\"";
+  for (char c : s) {
+    if (c == '"' || c == '\\') o += '\\';
+    o += c;
+  }
+  return o + "\"";
+}
+
+// The replay manifest of a run (tiller-replay reads LOG.replay.yaml next to LOG): what each
+// process ran with, from the launch file's entries after ${...} substitution.
+void write_manifest(const std::string& path, const LaunchFile& lf, const std::string& log_file,
+                    const std::vector<ProcessSpec>& procs, const PosixHost& host) {
+  std::ofstream m(path);
+  m << "# tiller-replay manifest of " << log_file << "\n"
+    << "# written by tiller-launch from " << lf.path << ". A live log: the processes ran on the\n"
+    << "# wall clock, so tiller-replay runs each tick where the recording shows it ran, matches\n"
+    << "# messages by nearest time (within 20 ms) and needs live_match of each channel's messages\n"
+    << "# within tolerance + relative_tolerance x |old| (the rest: ticks that saw an input in\n"
+    << "# another order than live).\n"
+    << "written_by: tiller-launch\n"
+    << "launch_file: " << q(lf.path) << "\n"
+    << "log: " << q(log_file) << "\n"
+    << "root: " << q(lf.root) << "\n"
+    << "live: true\n"
+    << "time_tolerance_ms: 20\n"
+    << "tolerance: 0.01\n"
+    << "relative_tolerance: 0.02\n"
+    << "live_match: 0.9\n"
+    << "processes:\n";
+  for (const auto& p : procs) {
+    if (p.name == "logger" && p.command == "lcm-logger") continue;
+    const auto argv = host.argv_of(p);
+    std::string config;
+    for (std::size_t k = 1; k < argv.size(); ++k) {
+      if (argv[k] == "--config" && k + 1 < argv.size()) config = argv[k + 1];
+      if (argv[k].rfind("--config=", 0) == 0) config = argv[k].substr(9);
+    }
+    m << "  " << p.name << ":\n    program: " << q(argv[0]) << "\n";
+    if (!config.empty()) m << "    config: " << q(config) << "\n";
+    m << "    args: [";
+    for (std::size_t k = 1; k < argv.size(); ++k) m << (k > 1 ? ", " : "") << q(argv[k]);
+    m << "]\n";
+  }
+  if (!m) throw std::runtime_error("cannot write the replay manifest " + path);
 }
 
 bool explicit_option(int argc, char** argv, const std::string& name) {
@@ -82,6 +159,7 @@ int run(int argc, char** argv) {
        {"status-file", "FILE",
         "status table kept up to date here (default: $XDG_RUNTIME_DIR or /tmp)", ""}}};
   const app::Args args = app::parse(argc, argv, spec);
+  const double every = seconds_option(args, "status-every");
   if (args.positional.size() == 2 && args.positional[0] == "status") {
     const LaunchFile lf = load_launch_file(args.positional[1]);
     const std::string f =
@@ -114,7 +192,11 @@ int run(int argc, char** argv) {
   std::string log_dir = args.get("log-dir").empty() ? lf.logger.dir : args.get("log-dir");
   if (!log_dir.empty() && log_dir[0] != '/') log_dir = lf.root + "/" + log_dir;
   std::string log_file = args.get("log-file");
-  if (log_file.empty())
+  // With rotate the name is fixed, so lcm-logger's rotation also bounds the files of past runs
+  // (logs/<name>.lcmlog.0 is the newest); otherwise one file (or split parts) per run.
+  if (log_file.empty() && lf.logger.rotate > 0)
+    log_file = log_dir + "/" + lf.name + ".lcmlog";
+  else if (log_file.empty())
     log_file = log_dir + "/" + now_stamp() + ".lcmlog";
   else if (log_file[0] != '/')
     log_file = std::filesystem::absolute(log_file).string();
@@ -126,11 +208,12 @@ int run(int argc, char** argv) {
     lg.command = "lcm-logger";
     lg.group = "logger";
     lg.args = {"--quiet", "--channel=" + lf.logger.channels};
-    if (lf.logger.split_mb > 0) {
+    if (lf.logger.split_mb > 0)
       lg.args.push_back("--split-mb=" + std::to_string(lf.logger.split_mb));
-      lg.args.push_back("--increment");
-    } else if (lf.logger.rotate > 0) {
-      lg.args.push_back("--rotate=" + std::to_string(lf.logger.rotate));
+    if (lf.logger.rotate > 0) {
+      lg.args.push_back("--rotate=" + std::to_string(lf.logger.rotate));  // FILE.0, FILE.1, ...
+    } else if (lf.logger.split_mb > 0) {
+      lg.args.push_back("--increment");  // FILE.00, FILE.01, ...
     }
     // lcm-logger 1.3.1: -l is broken, and --lcm-url before --split-mb loses the file name; so
     // --lcm-url= comes last before the file.
@@ -179,7 +262,11 @@ int run(int argc, char** argv) {
     }
     return kExitOk;
   }
-  if (log) std::filesystem::create_directories(std::filesystem::path(log_file).parent_path());
+  if (log) {
+    std::filesystem::create_directories(std::filesystem::path(log_file).parent_path());
+    const std::string manifest = logtools_stem(log_file) + ".replay.yaml";
+    write_manifest(manifest, lf, log_file, procs, host);
+  }
 
   // Signals arrive through a signalfd; children get them unblocked before exec.
   sigset_t mask;
@@ -189,6 +276,12 @@ int run(int argc, char** argv) {
   std::signal(SIGPIPE, SIG_IGN);
   const int sfd = ::signalfd(-1, &mask, SFD_CLOEXEC | SFD_NONBLOCK);
   ::prctl(PR_SET_CHILD_SUBREAPER, 1);  // orphaned grandchildren come back to us to be reaped
+  {
+    std::string guard_error;
+    if (host.start_guard(guard_error) < 0)
+      host.print("launch", "warning: no guard for grandchildren (" + guard_error +
+                               "): if tiller-launch is killed, their children may survive");
+  }
 
   const std::string status_file =
       args.get("status-file").empty() ? default_status_file(lf.name) : args.get("status-file");
@@ -197,14 +290,11 @@ int run(int argc, char** argv) {
   host.print("launch",
              lf.name + ": " + std::to_string(procs.size()) + " processes, lcm " + lf.lcm_url);
   if (log)
-    host.print("launch", "log: " + log_file +
-                             (lf.logger.split_mb > 0 ? ".00"
-                              : lf.logger.rotate > 0 ? ".0"
-                                                     : ""));
+    host.print("launch", "log: " + log_file + log_suffix(lf.logger) + " (replay manifest " +
+                             logtools_stem(log_file) + ".replay.yaml)");
   const TimeUs t0 = wall_time_us();
   sup.start(t0);
 
-  const double every = std::stod(args.get("status-every"));
   TimeUs next_status = every > 0 ? t0 + from_seconds(every) : INT64_MAX;
   TimeUs next_file = t0;
   int interrupts = 0;
@@ -266,10 +356,11 @@ int run(int argc, char** argv) {
                              << sup.stop_reason() << "\n"
                              << sup.status_table(end);
   if (log) {
-    std::cout << "tiller-launch: log " << log_file
-              << (lf.logger.split_mb > 0 ? ".00 (and following parts)"
-                  : lf.logger.rotate > 0 ? ".0"
-                                         : "")
+    std::cout << "tiller-launch: log " << log_file << log_suffix(lf.logger)
+              << (lf.logger.split_mb > 0
+                      ? (lf.logger.rotate > 0 ? " (the newest part; older: .1, .2, ...)"
+                                              : " (and following parts)")
+                      : "")
               << "\n";
   }
   std::cout << "tiller-launch: " << sup.stop_reason() << "; exit status " << sup.exit_status()

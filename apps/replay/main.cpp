@@ -1,15 +1,25 @@
 // tiller-replay: log replay regression. Feeds the recorded inputs of a process (or of every
 // process that ran) through today's code at the recorded times and compares its outputs with
-// the recorded ones: per channel "matching" or the first difference (time, field, old, new),
-// then a summary. Exit 0 when everything matches within the tolerance, 1 otherwise.
+// the recorded ones: per channel "matching" or the first difference (time from the log's start,
+// field, old, new), then a summary. Exit 0 when everything matches within the tolerance, 1 on a
+// difference, 2 on a usage or manifest error.
 //   tiller-replay LOG [--process NAME|all] [--config FILE] [--configs MANIFEST] [--tolerance X]
-// MANIFEST (default: LOG's name with .replay.yaml, when it exists):
-//   processes: {mixer: config/mixer/otter.yaml, ...}   # config of each process when recorded
+// MANIFEST (default: LOG's name with .replay.yaml, when it exists; tiller-launch writes one
+// next to every log it starts, tools/rerecord-golden next to the golden logs):
+//   root: /path/to/tiller   # relative configs resolve here (default: the current directory if
+//                           # the file is there, else the source tree tiller-replay was built from)
+//   live: true              # a live log (wall clock): ticks aligned to the recording
+//   processes:              # what ran, with its config (a string) or its launch entry (a map)
+//     mixer: config/mixer/otter.yaml
+//     sim: {program: tiller-sim, config: config/sim/sim.yaml, args: [--vehicle, ...]}
+//     done: {program: tiller-log, args: [wait, ...]}     # not replayable: reported as skipped
 //   heartbeats: true        # compare heartbeats too (lockstep logs; not live ones)
 //   tolerance: 0            # absolute, on every number field
 //   time_tolerance_ms: 0
+#include <cmath>
 #include <filesystem>
 #include <iostream>
+#include <limits>
 #include <map>
 
 #include "core/config.hpp"
@@ -21,6 +31,7 @@
 
 using namespace tiller;
 using namespace tiller::replaytool;
+namespace fs = std::filesystem;
 
 namespace {
 std::string heartbeat_channel_of(const std::string& name) {
@@ -36,6 +47,28 @@ bool explicit_option(int argc, char** argv, const std::string& name) {
   }
   return false;
 }
+// A numeric option, checked before anything runs.
+double number_option(const app::Args& a, const std::string& name, double min,
+                     const std::string& expected, double max = std::numeric_limits<double>::max()) {
+  const std::string& s = a.get(name);
+  std::size_t used = 0;
+  double v = NAN;
+  try {
+    v = std::stod(s, &used);
+  } catch (const std::exception&) {
+    used = 0;
+  }
+  if (used != s.size() || !std::isfinite(v) || v < min || v > max)
+    throw std::invalid_argument("--" + name + ": expected " + expected + ", got \"" + s + "\"");
+  return v;
+}
+
+struct Planned {
+  const ProcessEntry* entry = nullptr;
+  std::string config;  // as given (manifest, --config or the default)
+  std::vector<std::string> args;
+};
+
 }  // namespace
 
 int main(int argc, char** argv) {
@@ -45,98 +78,228 @@ int main(int argc, char** argv) {
         "Replays a log through today's code and compares the outputs with the recorded ones.\n"
         "Usage: tiller-replay LOG [--process NAME|all] [--config FILE] [--configs MANIFEST]\n"
         "--config applies to the one --process. Exit 0: all match within tolerance; 1: a "
-        "difference.",
+        "difference; 2: usage or manifest error.",
         "",
         {{"process", "NAME", "process to replay, or all (every replayable process that ran)",
           "all"},
          {"configs", "FILE",
           "manifest of each process's config (default: LOG.replay.yaml if present)", ""},
-         {"tolerance", "X", "absolute tolerance on number fields (default: manifest's, else 0)",
+         {"tolerance", "X",
+          "absolute tolerance on number fields, >= 0 (default: manifest's, else 0)", ""},
+         {"time-tolerance-ms", "MS",
+          "tolerance on message times, >= 0 (default: manifest's, else 0)", ""},
+         {"relative-tolerance", "F",
+          "plus this fraction of |old value|, 0..1 (default: manifest's, else 0)", ""},
+         {"live-match", "F",
+          "live logs: fraction of each channel's messages that must match, 0..1 (default: "
+          "manifest's, else 1)",
           ""},
-         {"time-tolerance-ms", "MS", "tolerance on message times (default: manifest's, else 0)",
+         {"live", "", "a live log: align ticks to the recording (default: the manifest's live:)",
           ""},
+         {"show", "N", "list the first N differences of each channel (default 1)", "1"},
          {"heartbeats", "", "compare heartbeats too (lockstep logs)", ""},
          {"list", "", "list the replayable processes and their default configs", ""}}};
     const app::Args a = app::parse(argc, argv, spec);
     const auto& entries = replayable_processes();
+    auto entry_named = [&](const std::string& n) -> const ProcessEntry* {
+      for (const auto& e : entries)
+        if (e.name == n) return &e;
+      return nullptr;
+    };
+    std::string names;
+    for (const auto& e : entries) names += (names.empty() ? "" : ", ") + e.name;
     if (a.flag("list")) {
       for (const auto& e : entries)
-        std::cout << e.name << "  (default config " << e.default_config << ")\n";
+        std::cout << e.name << "  (default config "
+                  << (e.default_config.empty() ? "none: the vehicle's, from a manifest or --config"
+                                               : e.default_config)
+                  << ")\n";
       return 0;
     }
     if (a.positional.size() != 1) {
       std::cerr << "tiller-replay: give one log file (see --help)\n";
       return 2;
     }
+    // Numeric options first, before anything is read or run.
+    std::optional<double> opt_tol, opt_time_tol, opt_rel, opt_match;
+    if (!a.get("relative-tolerance").empty())
+      opt_rel = number_option(a, "relative-tolerance", 0, "a fraction from 0 to 1", 1);
+    if (!a.get("live-match").empty())
+      opt_match = number_option(a, "live-match", 0, "a fraction from 0 to 1", 1);
+    if (!a.get("tolerance").empty()) opt_tol = number_option(a, "tolerance", 0, "a number >= 0");
+    if (!a.get("time-tolerance-ms").empty())
+      opt_time_tol = number_option(a, "time-tolerance-ms", 0, "a number of ms >= 0");
+    const double show_d = number_option(a, "show", 1, "a whole number >= 1");
+    if (show_d != std::floor(show_d))
+      throw std::invalid_argument("--show: expected a whole number >= 1, got \"" + a.get("show") +
+                                  "\"");
+    const std::string which = a.get("process");
+    if (which != "all" && !entry_named(which)) {
+      std::cerr << "tiller-replay: --process: no replayable process named \"" << which
+                << "\" (replayable: " << names << ", or all)\n";
+      return 2;
+    }
+
     const std::string log_path = a.positional[0];
-    std::map<std::string, std::string> configs;
     Tolerance tol;
     bool heartbeats = a.flag("heartbeats");
+    bool live = a.flag("live");
     std::string manifest = a.get("configs");
     if (manifest.empty()) {
       const auto candidate = logtools::log_stem(log_path) + ".replay.yaml";
-      if (std::filesystem::exists(candidate)) manifest = candidate;
+      if (fs::exists(candidate)) manifest = candidate;
     }
+    // Where relative config paths resolve: the manifest's root, else the current directory when
+    // the file is there, else the source tree.
+    std::string root;
+    auto resolve = [&](const std::string& p) -> std::string {
+      if (p.empty() || fs::path(p).is_absolute()) return p;
+      if (!root.empty()) return (fs::path(root) / p).string();
+      if (fs::exists(p)) return p;
+      const std::string in_src = std::string(TILLER_SOURCE_DIR) + "/" + p;
+      return fs::exists(in_src) ? in_src : p;
+    };
+    std::vector<Planned> plan;
+    std::vector<std::string> skipped;  // "name (why)"
+    bool from_manifest = false;
     if (!manifest.empty()) {
       const auto m = config::Value::load_file(manifest);
-      if (auto ps = m.find("processes")) {
-        for (const auto& k : ps->keys()) configs[k] = ps->string(k);
+      if (auto r = m.find("root")) {
+        root = r->as_string();
+        if (!fs::is_directory(root)) r->fail("an existing directory (the tree the log ran in)");
       }
+      live = live || m.boolean_or("live", false);
       heartbeats = heartbeats || m.boolean_or("heartbeats", false);
       tol.abs = m.number_or("tolerance", 0.0, config::Range::at_least(0.0));
+      tol.rel = m.number_or("relative_tolerance", 0.0, {0.0, 1.0});
+      tol.live_match = m.number_or("live_match", 1.0, {0.0, 1.0});
       tol.time_us =
           from_seconds(m.number_or("time_tolerance_ms", 0.0, config::Range::at_least(0.0)) * 1e-3);
+      for (const char* info : {"launch_file", "log", "written_by"})
+        if (auto v = m.find(info)) v->mark_used();
+      if (auto ps = m.find("processes")) {
+        if (!ps->is_map()) ps->fail("a map of process name: config (or {program, config, args})");
+        from_manifest = true;
+        for (const auto& k : ps->keys()) {
+          const auto v = ps->at(k);
+          Planned p;
+          std::string program;
+          if (v.is_map()) {
+            program = v.string_or("program", "");
+            p.config = v.string_or("config", "");
+            if (auto ar = v.find("args")) {
+              if (!ar->is_sequence()) ar->fail("a sequence of strings");
+              for (const auto& s : ar->items()) p.args.push_back(s.as_string());
+            }
+          } else {
+            p.config = v.as_string();
+          }
+          // Launch entries name the program (tiller-mixer is the mixer whatever the process is
+          // called); plain entries must name a replayable process.
+          const std::string base = fs::path(program).filename().string();
+          p.entry = base.rfind("tiller-", 0) == 0 ? entry_named(base.substr(7)) : nullptr;
+          if (!p.entry) p.entry = entry_named(k);
+          if (!p.entry && !v.is_map())
+            v.fail("a process tiller-replay knows (" + names + "), not \"" + k + "\"");
+          if (!p.entry) {
+            skipped.push_back(k + " (" + (program.empty() ? "no program" : base) +
+                              ": not a replayable process)");
+            continue;
+          }
+          if (which != "all" && p.entry->name != which) continue;
+          if (p.config.empty()) p.config = p.entry->default_config;
+          plan.push_back(p);
+        }
+      }
       m.check_all_used();
     }
-    if (!a.get("tolerance").empty()) tol.abs = std::stod(a.get("tolerance"));
-    if (!a.get("time-tolerance-ms").empty())
-      tol.time_us = from_seconds(std::stod(a.get("time-tolerance-ms")) * 1e-3);
+    if (opt_tol) tol.abs = *opt_tol;
+    if (opt_rel) tol.rel = *opt_rel;
+    if (opt_match) tol.live_match = *opt_match;
+    if (opt_time_tol) tol.time_us = from_seconds(*opt_time_tol * 1e-3);
+    if (live && tol.time_us == 0) tol.time_us = 20'000;  // a live log's times are the wall clock's
 
     const auto log = logtools::read_any_log(log_path);
     if (log.empty()) throw std::runtime_error(log_path + ": the log is empty");
-    std::vector<const ProcessEntry*> chosen;
-    const std::string which = a.get("process");
-    for (const auto& e : entries) {
-      if (which == "all" && !configs.empty() && !configs.count(e.name)) {
-        continue;  // a manifest names the processes to replay
-      } else if (which == "all") {
-        const std::string hb = heartbeat_channel_of(e.name);
-        bool ran = false;
-        for (const auto& ev : log) {
-          if (ev.channel == hb) {
-            ran = true;
-            break;
+    if (!from_manifest) {
+      for (const auto& e : entries) {
+        if (which != "all" && e.name != which) continue;
+        if (which == "all") {
+          const std::string hb = heartbeat_channel_of(e.name);
+          bool ran = false;
+          for (const auto& ev : log) {
+            if (ev.channel == hb) {
+              ran = true;
+              break;
+            }
           }
+          if (!ran) continue;
         }
-        if (ran) chosen.push_back(&e);
-      } else if (e.name == which) {
-        chosen.push_back(&e);
+        plan.push_back(Planned{&e, e.default_config, {}});
       }
-    }
-    if (chosen.empty()) {
-      std::cerr << "tiller-replay: "
-                << (which == "all" ? "no replayable process ran in " + log_path
-                                   : "no replayable process named " + which)
-                << " (see --list)\n";
-      return 2;
     }
     if (explicit_option(argc, argv, "config")) {
       if (which == "all") {
         std::cerr << "tiller-replay: --config needs --process NAME\n";
         return 2;
       }
-      configs[which] = a.config;
+      if (plan.empty()) plan.push_back(Planned{entry_named(which), "", {}});
+      for (auto& p : plan) p.config = a.config;
+    }
+    // Processes whose config is the vehicle's have no default.
+    for (auto it = plan.begin(); it != plan.end();) {
+      if (!it->config.empty()) {
+        ++it;
+        continue;
+      }
+      if (which != "all") {
+        std::cerr << "tiller-replay: " << it->entry->name
+                  << " has no default config (it is the vehicle's): give --config FILE or a "
+                     "manifest (--configs)\n";
+        return 2;
+      }
+      skipped.push_back(it->entry->name + " (needs its vehicle's config: a manifest or --process " +
+                        it->entry->name + " --config FILE)");
+      it = plan.erase(it);
+    }
+    for (const auto& s : skipped) std::cout << "skipped: " << s << "\n";
+    if (plan.empty()) {
+      std::cerr << "tiller-replay: "
+                << (which == "all" ? "no replayable process ran in " + log_path +
+                                         (from_manifest ? " (manifest " + manifest + ")" : "")
+                                   : which + " is not among the processes of " + manifest)
+                << " (see --list)\n";
+      return 2;
     }
     bool ok = true;
-    for (const ProcessEntry* e : chosen) {
-      const std::string cfg = configs.count(e->name) ? configs[e->name] : e->default_config;
-      const auto rep = replay_process(*e, cfg, log, tol, heartbeats);
+    for (const Planned& p : plan) {
+      ReplayOptions o;
+      o.heartbeats = heartbeats && !live;
+      o.live = live;
+      o.show = static_cast<std::size_t>(show_d);
+      for (const auto& s : p.args) {
+        // Recorded paths are relative to the tree the run was started in.
+        const auto eq = s.find('=');
+        const std::string v = eq == std::string::npos ? s : s.substr(eq + 1);
+        const bool path_like = !v.empty() && v[0] != '-' && v.find('/') != std::string::npos;
+        const std::string r = path_like ? resolve(v) : v;
+        o.args.push_back(eq == std::string::npos ? r : s.substr(0, eq + 1) + r);
+      }
+      const auto rep = replay_process(*p.entry, resolve(p.config), log, tol, o);
       std::cout << format_report(rep);
       ok = ok && rep.ok();
     }
-    std::cout << "tiller-replay: " << (ok ? "PASS" : "FAIL") << " (" << chosen.size() << " process"
-              << (chosen.size() > 1 ? "es" : "") << ", tolerance " << tol.abs << ", time tolerance "
-              << to_seconds(tol.time_us) * 1e3 << " ms)\n";
+    std::cout << "tiller-replay: " << (ok ? "PASS" : "FAIL") << " (" << plan.size() << " process"
+              << (plan.size() > 1 ? "es" : "")
+              << (live ? ", live log: ticks aligned to the recording" : "") << ", tolerance "
+              << tol.abs << (tol.rel > 0 ? " + " + std::to_string(tol.rel) + " x |old|" : "")
+              << (live && tol.live_match < 1
+                      ? ", " + std::to_string(static_cast<int>(std::lround(tol.live_match * 100))) +
+                            "% of messages"
+                      : "")
+              << ", time tolerance " << to_seconds(tol.time_us) * 1e3 << " ms"
+              << (skipped.empty() ? "" : ", " + std::to_string(skipped.size()) + " skipped")
+              << ")\n";
     return ok ? 0 : 1;
   });
 }

@@ -17,14 +17,46 @@ namespace tiller::replaytool {
 
 namespace ch = channels;
 
+namespace {
+// tiller-sim's options that override its config (apps/sim/main.cpp), as recorded in a launch
+// manifest. Other options are refused: replaying without them would compare another vehicle.
+std::unique_ptr<Node> make_sim(const std::string& config, const std::vector<std::string>& args) {
+  const auto root = config::Value::load_file(config);
+  SimParams p = load_sim_params(root);
+  root.check_all_used();
+  for (std::size_t i = 0; i < args.size(); ++i) {
+    std::string key = args[i], value;
+    if (key.rfind("--", 0) != 0) continue;
+    if (const auto eq = key.find('='); eq != std::string::npos) {
+      value = key.substr(eq + 1);
+      key = key.substr(0, eq);
+    } else if (i + 1 < args.size()) {
+      value = args[i + 1];
+    }
+    if (key == "--config" || key == "--lcm-url") {
+      continue;
+    } else if (key == "--vehicle") {
+      p.vehicle_file = value;
+    } else if (key == "--seed") {
+      p.seed = static_cast<std::uint64_t>(std::stoull(value));
+    } else {
+      throw std::invalid_argument("sim: replay cannot apply the recorded option " + key +
+                                  " (only --config, --vehicle, --seed)");
+    }
+  }
+  return std::make_unique<SimNode>(p, load_sim_vehicle_file(p.vehicle_file));
+}
+}  // namespace
+
 const std::vector<ProcessEntry>& replayable_processes() {
   static const std::vector<ProcessEntry> entries = {
+      // mixer and esc: no default, their config is the vehicle's (a manifest or --config).
       {"mixer",
-       "config/mixer/seed001_rov6.yaml",
+       "",
        {ch::kThrusterCommand, ch::kAllocationStatus},
        [](const std::string& c) { return std::make_unique<MixerNode>(c); }},
       {"esc",
-       "config/esc/sim.yaml",
+       "",
        {ch::kEscOutput, ch::kEscStatus, ch::kArmState},
        [](const std::string& c) { return std::make_unique<EscNode>(c); }},
       {"path-follower",
@@ -42,14 +74,18 @@ const std::vector<ProcessEntry>& replayable_processes() {
        [](const std::string& c) {
          return std::make_unique<control::VelocityPidNode>(
              control::load_velocity_pid_node_params(config::Value::load_file(c)));
-       }},
+       },
+       {},
+       /*integrating=*/true},
       {"station-keep",
        "config/control/otter.yaml",
        {ch::kWrenchStation, ch::kPidStation},
        [](const std::string& c) {
          return std::make_unique<control::StationKeepNode>(
              control::load_station_keep_node_params(config::Value::load_file(c)));
-       }},
+       },
+       {},
+       /*integrating=*/true},
       {"teleop",
        "config/teleop/gamepad_xbox.yaml",
        {ch::kManualDemand, ch::kManualVelocity},
@@ -59,7 +95,9 @@ const std::vector<ProcessEntry>& replayable_processes() {
       {"sim",
        "config/sim/sim.yaml",
        {ch::kOdometry, ch::kGroundTruth, ch::kSimState},
-       [](const std::string& c) { return std::make_unique<SimNode>(c); }},
+       [](const std::string& c) { return std::make_unique<SimNode>(c); },
+       make_sim,
+       /*integrating=*/true},
   };
   return entries;
 }

@@ -100,8 +100,6 @@ LaunchFile load_launch(const config::Value& root, const std::string& file_dir) {
     lf.logger.channels = l->string_or("channels", ".*");
     lf.logger.split_mb = l->number_or("split_mb", 0.0, {0.0, 1e6});
     lf.logger.rotate = static_cast<int>(l->integer_or("rotate", 0, 0, 1000));
-    if (lf.logger.split_mb > 0 && lf.logger.rotate > 0)
-      l->at("rotate").fail("0 when split_mb is set (lcm-logger cannot do both)");
   }
 
   const config::Value procs = root.at("processes");

@@ -58,8 +58,12 @@ struct LoggerSpec {
   bool enabled = true;
   std::string dir = "logs";     // relative to root
   std::string channels = ".*";  // lcm-logger -c
-  double split_mb = 0.0;        // > 0: start a new file every N MB (name.00, name.01, ...)
-  int rotate = 0;               // > 0: keep N old files (lcm-logger --rotate)
+  // split_mb > 0: a new file every N MB; rotate > 0: keep N files, the newest FILE.0 (with
+  // split_mb: at most rotate * split_mb MB of log, bounded on a boot service; the file name is
+  // then fixed, <dir>/<launch name>.lcmlog, so the runs of past boots rotate away too).
+  // split_mb without rotate: FILE.00, FILE.01, ... (unbounded).
+  double split_mb = 0.0;
+  int rotate = 0;
 };
 
 struct LaunchFile {

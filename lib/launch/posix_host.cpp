@@ -8,6 +8,8 @@
 
 #include <cerrno>
 #include <csignal>
+#include <cstdint>
+#include <cstdio>
 #include <cstring>
 #include <filesystem>
 #include <stdexcept>
@@ -35,6 +37,64 @@ PosixHost::PosixHost(std::string root_dir, std::map<std::string, std::string> va
 
 PosixHost::~PosixHost() {
   for (auto& [fd, p] : pipes_) ::close(fd);
+  if (guard_fd_ >= 0) ::close(guard_fd_);
+}
+
+int PosixHost::start_guard(std::string& error) {
+  int fds[2];
+  if (::pipe2(fds, O_CLOEXEC) != 0) {
+    error = std::string("pipe: ") + std::strerror(errno);
+    return -1;
+  }
+  const pid_t pid = ::fork();
+  if (pid < 0) {
+    error = std::string("fork: ") + std::strerror(errno);
+    ::close(fds[0]);
+    ::close(fds[1]);
+    return -1;
+  }
+  if (pid == 0) {
+    // The guard: its own process group (a Ctrl-C or a group kill aimed at the launcher does not
+    // reach it), deaf to the stop signals; it ends when the launcher's end of the pipe closes.
+    ::setpgid(0, 0);
+    ::close(fds[1]);
+    for (int s : {SIGINT, SIGTERM, SIGHUP, SIGUSR1, SIGPIPE}) ::signal(s, SIG_IGN);
+    sigset_t none;
+    sigemptyset(&none);
+    ::sigprocmask(SIG_SETMASK, &none, nullptr);
+    const int devnull = ::open("/dev/null", O_RDWR);
+    if (devnull >= 0) {
+      ::dup2(devnull, 0);
+      ::dup2(devnull, 1);
+    }
+    for (int fd = 3; fd < 1024; ++fd)
+      if (fd != fds[0]) ::close(fd);
+    std::vector<int> groups;
+    std::int32_t g = 0;
+    for (;;) {
+      const ssize_t n = ::read(fds[0], &g, sizeof g);
+      if (n == static_cast<ssize_t>(sizeof g)) {
+        if (g > 0) groups.push_back(g);
+        continue;
+      }
+      if (n < 0 && errno == EINTR) continue;
+      break;  // EOF: the launcher exited or was killed
+    }
+    int left = 0;
+    for (int grp : groups) left += ::kill(-grp, SIGKILL) == 0 ? 1 : 0;
+    if (left > 0) {
+      char msg[160];
+      const int len = std::snprintf(msg, sizeof msg,
+                                    "tiller-launch guard: the launcher is gone; SIGKILL to %d "
+                                    "process group%s still alive\n",
+                                    left, left > 1 ? "s" : "");
+      (void)!::write(2, msg, static_cast<std::size_t>(len));
+    }
+    ::_exit(0);
+  }
+  ::close(fds[0]);
+  guard_fd_ = fds[1];
+  return pid;
 }
 
 namespace {
@@ -145,6 +205,10 @@ int PosixHost::spawn(const ProcessSpec& p, std::string& error) {
     ::_exit(127);
   }
   ::setpgid(pid, pid);  // also here, so signals sent right away reach the group
+  if (guard_fd_ >= 0) {
+    const std::int32_t g = pid;
+    (void)!::write(guard_fd_, &g, sizeof g);
+  }
   ::close(out[1]);
   ::close(err[1]);
   int child_errno = 0;

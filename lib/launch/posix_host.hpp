@@ -2,7 +2,11 @@
 // group (signals reach its own children too, and a terminal's Ctrl-C reaches only the
 // launcher), dies with the launcher (PR_SET_PDEATHSIG = SIGKILL), has stdin from /dev/null, and
 // writes stdout and stderr into one pipe that the host prints line by line, each line
-// prefixed with the process name. Commands without a '/' are looked up in `search_dirs`, then
+// prefixed with the process name. A grandchild is not covered by PR_SET_PDEATHSIG; so that
+// nothing is left behind even when the launcher is SIGKILLed, start_guard() forks a small guard
+// process that learns every child's process group and, when the launcher is gone (its pipe
+// closes), SIGKILLs each group still alive. Only a process that leaves its group (setsid,
+// setpgid: a daemon) escapes it. Commands without a '/' are looked up in `search_dirs`, then
 // on PATH; ${NAME} in command, args and env values is replaced from `vars` or the environment.
 #pragma once
 
@@ -23,6 +27,9 @@ class PosixHost : public ProcessHost {
   ~PosixHost() override;
 
   int spawn(const ProcessSpec& p, std::string& error) override;
+  // Forks the guard (call before the first spawn, so it holds none of the children's pipes).
+  // Returns its pid, or -1 (then only direct children are covered) with `error` set.
+  int start_guard(std::string& error);
   void signal(int pid, int sig) override;
 
   // Resolves a command to an executable path ("" if none is found).
@@ -48,6 +55,7 @@ class PosixHost : public ProcessHost {
   std::FILE* out_;
   std::size_t width_;
   std::map<int, Pipe> pipes_;
+  int guard_fd_ = -1;  // write end of the guard's pipe
 };
 
 // Directory of the running executable (for finding sibling tiller-* programs).
