@@ -103,7 +103,7 @@ void LiveExecutor::on_message(const lcm_recv_buf_t* rbuf, const char* channel, v
 }
 
 void LiveExecutor::stop() {
-  stop_ = true;
+  stop_.store(true);
 }
 
 void LiveExecutor::publish_raw(const std::string& channel, const void* data, int size) {
@@ -131,7 +131,7 @@ int LiveExecutor::run() {
   std::vector<pollfd> pfds;
   std::vector<Fd*> owners;
   int fd_failures = 0;
-  while (!stop_ && !g_signalled.load()) {
+  while (!stop_.load() && !g_signalled.load()) {
     TimeUs now = wall_time_us();
     // Tick every node that is due, told its grid time. A loop that fell behind runs only the
     // latest due grid point and counts the skipped ones.

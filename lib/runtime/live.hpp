@@ -15,6 +15,7 @@
 //   * poll() failing other than EINTR: prints the reason and returns kExitFault.
 #pragma once
 
+#include <atomic>
 #include <functional>
 #include <list>
 #include <memory>
@@ -53,7 +54,7 @@ class LiveExecutor {
 
   // Runs until SIGINT/SIGTERM or stop() (returns 0) or a fault (returns kExitFault); see above.
   int run();
-  void stop();
+  void stop();  // thread-safe: run() returns within 100 ms
   // Publishes raw bytes (for tools that are not nodes).
   void publish_raw(const std::string& channel, const void* data, int size);
 
@@ -72,8 +73,8 @@ class LiveExecutor {
   std::vector<TimeUs> next_tick_;
   std::vector<int> tick_failures_;  // consecutive failed ticks per node
   std::vector<std::string> subscribed_;
-  std::list<Fd> fds_;  // a list: callbacks may add or remove fds while one runs
-  bool stop_ = false;
+  std::list<Fd> fds_;              // a list: callbacks may add or remove fds while one runs
+  std::atomic<bool> stop_{false};  // stop() may come from another thread
 };
 
 }  // namespace tiller

@@ -12,15 +12,17 @@ fail=0
 # tiller-mixer --describe exits at once: the default config and its vehicle file were found.
 out=$("$bin/tiller-mixer" --describe 2>&1); rc=$?
 if [ $rc -ne 0 ]; then echo "FAIL: tiller-mixer --describe from $work exited $rc: $out"; fail=1; fi
-for name in velocity-pid station-keep path-follower mixer teleop esc sim; do
-  p="$bin/tiller-$name"
-  "$p" >"$work/$name.log" 2>&1 </dev/null &
-  pid=$!
-  # Up to 3 s for a config error to show (a bad config exits with 2 in milliseconds).
-  i=0
-  while [ $i -lt 30 ] && kill -0 $pid 2>/dev/null; do sleep 0.1; i=$((i + 1)); done
-  kill -TERM $pid 2>/dev/null
-  wait $pid; rc=$?
+names="velocity-pid station-keep path-follower mixer teleop esc sim"
+for name in $names; do
+  "$bin/tiller-$name" >"$work/$name.log" 2>&1 </dev/null &
+  echo $! >"$work/$name.pid"
+done
+# 3 s for a config error to show (a bad config exits with 2 within milliseconds of starting).
+sleep 3
+for name in $names; do
+  pid=$(cat "$work/$name.pid")
+  kill -TERM "$pid" 2>/dev/null
+  wait "$pid"; rc=$?
   if grep -q "cannot open" "$work/$name.log" || [ $rc -ne 0 ]; then
     echo "FAIL: tiller-$name from $work: exit $rc: $(cat "$work/$name.log")"
     fail=1
