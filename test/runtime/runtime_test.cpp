@@ -5,6 +5,8 @@
 #include <cstdio>
 #include <filesystem>
 #include <limits>
+#include <stdexcept>
+#include <string_view>
 
 #include <tiller/heartbeat_t.hpp>
 
@@ -191,6 +193,76 @@ TEST(Node, HeartbeatAtOneHertzWithCounters) {
     }
   }
   EXPECT_TRUE(found);
+}
+
+// A node whose handler or tick throws: the base class catches it (any executor), counts it,
+// latches FAULT in the heartbeat and carries on; the other nodes keep running.
+class Throwing : public Node {
+ public:
+  Throwing() : Node("throwing", 100'000) {
+    subscribe("TILLER_ODOMETRY", &Throwing::on_odometry);
+    advertise<wrench_t>("TILLER_WRENCH_VELOCITY");
+  }
+  void on_odometry(const odometry_t& o, TimeUs) {
+    if (o.position[0] > 0.5) throw std::runtime_error("odometry handler broke");
+  }
+  void on_tick(TimeUs now) override {
+    ++ticks;
+    if (now >= 2 * kUsPerSecond && now < 3 * kUsPerSecond) throw std::logic_error("tick broke");
+  }
+  int ticks = 0;
+};
+
+TEST(Node, ExceptionsAreCountedLatchedAsFaultAndDoNotStopTheExecutor) {
+  Throwing t;
+  ToyPlant p;
+  LockstepExecutor ex(0);
+  ex.add(p);
+  ex.add(t);
+  std::vector<heartbeat_t> hbs;
+  ex.observe([&](const std::string& ch, const std::uint8_t* d, int n, TimeUs) {
+    heartbeat_t h;
+    if (ch == t.heartbeat_channel() && h.decode(d, 0, n) == n) hbs.push_back(h);
+  });
+  ex.run_until(1'500'000);
+  EXPECT_FALSE(t.faulted());
+  ASSERT_FALSE(hbs.empty());
+  EXPECT_EQ(hbs.back().state, heartbeat_t::STATE_OK);
+  ex.run_until(5 * kUsPerSecond);
+  EXPECT_EQ(t.ticks, 51);  // every grid point from 0 to 5 s, the 10 that threw included
+  EXPECT_EQ(t.counter_value("exception.tick"), 10);
+  EXPECT_TRUE(t.faulted());
+  EXPECT_NE(t.fault_status().find("tick broke"), std::string::npos);
+  EXPECT_EQ(hbs.back().state, heartbeat_t::STATE_FAULT);
+  EXPECT_EQ(hbs.back().utime, 5 * kUsPerSecond);
+  // The plant kept running and its odometry kept arriving.
+  EXPECT_EQ(p.counter_value("exception.tick"), 0);
+  odometry_t o{};
+  o.position[0] = 1.0;
+  ex.inject("TILLER_ODOMETRY", o, 5 * kUsPerSecond + 1);
+  const std::int64_t rejected = t.rejected();
+  ex.run_until(5 * kUsPerSecond + 2);
+  EXPECT_EQ(t.counter_value("exception.message"), 1);
+  EXPECT_EQ(t.rejected(), rejected + 1);
+}
+
+// Channels reach the node as views: a channel name inside a longer buffer is matched exactly.
+TEST(Node, DeliverMatchesAStringViewChannelExactly) {
+  ToyController c;
+  odometry_t o{};
+  o.position[0] = 0.25;
+  const Event e = encode("TILLER_ODOMETRY", 0, o);
+  const std::string buffer = "TILLER_ODOMETRY_AND_MORE";
+  c.deliver(std::string_view(buffer).substr(0, 15), e.data.data(), static_cast<int>(e.data.size()),
+            1);
+  EXPECT_EQ(c.received(), 1);
+  EXPECT_DOUBLE_EQ(c.x_, 0.25);
+  c.deliver(buffer, e.data.data(), static_cast<int>(e.data.size()), 2);  // not subscribed
+  c.deliver(std::string_view(buffer).substr(0, 14), e.data.data(), static_cast<int>(e.data.size()),
+            3);
+  EXPECT_EQ(c.received(), 1);
+  EXPECT_TRUE(c.subscribes_to(std::string_view(buffer).substr(0, 15)));
+  EXPECT_EQ(c.subscribed_type("TILLER_ODOMETRY"), "odometry_t");
 }
 
 }  // namespace
