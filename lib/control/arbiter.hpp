@@ -41,6 +41,10 @@ struct ArbiterDecision {
 
 class Arbiter {
  public:
+  // No reason string is longer than this (test/control): the nodes size their strings to it at
+  // construction, so a mode change allocates nothing.
+  static constexpr std::size_t kMaxReasonLength = 80;
+
   explicit Arbiter(const ArbiterParams& p = {}) : p_(p) {}
   ArbiterDecision decide(const ArbiterInput& in);
   std::int8_t source() const { return last_source_; }

@@ -1,5 +1,7 @@
 #include "control/station_keep_node.hpp"
 
+#include "control/arbiter.hpp"
+
 #include <tiller/pid_terms_t.hpp>
 
 #include <cmath>
@@ -40,6 +42,11 @@ StationKeepNode::StationKeepNode(const StationKeepNodeParams& p)
   nan_odometry_ = &counter("rejected.odometry.nan");
   bad_target_ = &counter("rejected.target.invalid");
   bad_velocity_wrench_ = &counter("rejected.wrench_velocity.nan");
+  // Strings sized once, so a hand-over allocates nothing (autonomy_alloc_test): the copy of the
+  // arbitration (its reason) and the heartbeat's status.
+  arb_.reason.reserve(Arbiter::kMaxReasonLength);
+  set_health(heartbeat_t::STATE_OK, std::string(Arbiter::kMaxReasonLength, ' '));
+  set_health(heartbeat_t::STATE_OK, "starting");
 }
 
 void StationKeepNode::on_odometry(const odometry_t& m, TimeUs now) {

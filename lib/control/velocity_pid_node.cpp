@@ -47,6 +47,12 @@ VelocityPidNode::VelocityPidNode(const VelocityPidNodeParams& p)
   bad_progress_ = &counter("rejected.progress.invalid");
   bad_mode_ = &counter("rejected.mode.invalid");
   bad_station_wrench_ = &counter("rejected.wrench_station.nan");
+  // Strings sized once, so a mode change allocates nothing (autonomy_alloc_test): the reason
+  // (arbitration and status line) and the heartbeat's status.
+  arb_.reason.reserve(Arbiter::kMaxReasonLength);
+  reason_.reserve(Arbiter::kMaxReasonLength);
+  set_health(heartbeat_t::STATE_OK, std::string(Arbiter::kMaxReasonLength, ' '));
+  set_health(heartbeat_t::STATE_OK, "starting");
 }
 
 void VelocityPidNode::on_odometry(const odometry_t& m, TimeUs now) {

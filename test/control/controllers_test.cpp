@@ -6,6 +6,7 @@
 
 #include <cmath>
 #include <cstdio>
+#include <cstring>
 
 #include "control/arbiter.hpp"
 #include "control/control_config.hpp"
@@ -330,6 +331,28 @@ TEST(Arbiter, TheSeedsChoosePidRules) {
   EXPECT_EQ(a.decide(in).source, wrench_t::SOURCE_VELOCITY_PID);
   in.progress_fresh = false;  // follower gone: neutral
   EXPECT_EQ(a.decide(in).source, wrench_t::SOURCE_NONE);
+}
+
+// The nodes size their reason strings to kMaxReasonLength at construction: every reason fits.
+TEST(Arbiter, EveryReasonFitsTheReservedLength) {
+  for (std::int8_t mode = -1; mode <= 3; ++mode) {
+    for (int bits = 0; bits < 8; ++bits) {
+      for (double d : {0.5, 2.2, 5.0}) {
+        Arbiter a;
+        ArbiterInput in;
+        in.mode = mode;
+        in.progress_fresh = bits & 1;
+        in.path_active = bits & 2;
+        in.complete = bits & 4;
+        in.distance_to_goal = d;
+        for (int k = 0; k < 2; ++k) {  // twice: the hysteresis branch
+          const auto r = a.decide(in);
+          EXPECT_GT(std::strlen(r.reason), 0u);
+          EXPECT_LE(std::strlen(r.reason), Arbiter::kMaxReasonLength) << r.reason;
+        }
+      }
+    }
+  }
 }
 
 TEST(ControlConfig, ShippedFilesLoadStrictly) {
