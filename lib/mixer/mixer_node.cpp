@@ -56,6 +56,8 @@ MixerParams load_mixer_params(const config::Value& root) {
   p.fallback_source =
       source_from_name(root.choice_or("fallback_source", "manual_demand",
                                       {"manual_demand", "velocity_pid", "station_keep", "none"}));
+  p.publish_every_input = root.choice_or("publish_at_once", "active_source",
+                                         {"active_source", "every_input"}) == "every_input";
   if (auto f = root.find("freshness")) {
     p.manual_timeout_us = seconds_key(*f, "manual_demand_s", 0.5);
     p.wrench_timeout_us = seconds_key(*f, "wrench_s", 0.5);
@@ -119,61 +121,64 @@ MixerNode::MixerNode(const std::string& config_path)
             return load_mixer_params(root).vehicle_file;
           }())) {}
 
+std::int8_t MixerNode::source_now(TimeUs now) {
+  return select_source(arb_fresh_.fresh(now), arb_source_, p_.fallback_source);
+}
+
+// New input publishes at once only when it is the active source's: the command rate stays the
+// active source's rate (plus the fixed rate), whatever the other feeds do.
 void MixerNode::on_manual(const manual_demand_t& m, TimeUs now) {
   if (!all_in_range(m.demand, -1.0, 1.0)) {
     manual_fresh_.reset();
     reject(*rej_manual_);
-    output(now);
-    return;
-  }
-  if (!m.valid) {
+  } else if (!m.valid) {
     manual_fresh_.reset();  // the teleop says: nothing to say -> absent
   } else {
     for (int i = 0; i < 6; ++i) manual_(i) = m.demand[i];
     manual_fresh_.mark(now);
   }
-  output(now);
+  if (p_.publish_every_input || source_now(now) == wrench_t::SOURCE_MANUAL_DEMAND) output(now);
 }
 
-void MixerNode::on_wrench(WrenchInput& in, const wrench_t& m, TimeUs now) {
+void MixerNode::on_wrench(WrenchInput& in, std::int8_t source, const wrench_t& m, TimeUs now) {
   if (!all_in_range(m.tau, -kMaxWrenchComponent, kMaxWrenchComponent)) {
     in.fresh.reset();
     reject(*rej_wrench_);
-    output(now);
-    return;
-  }
-  if (!m.valid) {
+  } else if (!m.valid) {
     in.fresh.reset();
   } else {
     for (int i = 0; i < 6; ++i) in.tau(i) = m.tau[i];
     in.fresh.mark(now);
   }
-  output(now);
+  if (p_.publish_every_input || source_now(now) == source) output(now);
 }
 
 void MixerNode::on_wrench_velocity(const wrench_t& m, TimeUs now) {
-  on_wrench(velocity_, m, now);
+  on_wrench(velocity_, wrench_t::SOURCE_VELOCITY_PID, m, now);
 }
 void MixerNode::on_wrench_station(const wrench_t& m, TimeUs now) {
-  on_wrench(station_, m, now);
+  on_wrench(station_, wrench_t::SOURCE_STATION_KEEP, m, now);
 }
 
+// Arbitration and arm state publish at once when they change what the mixer does (the active
+// source; armed or not), not on every repetition.
 void MixerNode::on_arbitration(const arbitration_t& m, TimeUs now) {
+  const std::int8_t before = source_now(now);
   if (!known_source(m.active_source)) {
     arb_fresh_.reset();
     reject(*rej_arb_);
-    output(now);
-    return;
+  } else {
+    arb_source_ = m.active_source;
+    arb_fresh_.mark(now);
   }
-  arb_source_ = m.active_source;
-  arb_fresh_.mark(now);
-  output(now);
+  if (p_.publish_every_input || source_now(now) != before) output(now);
 }
 
 void MixerNode::on_arm_state(const arm_state_t& m, TimeUs now) {
+  const bool before = armed_ && arm_fresh_.fresh(now);
   armed_ = m.armed;
   arm_fresh_.mark(now);
-  output(now);
+  if (p_.publish_every_input || (armed_ && arm_fresh_.fresh(now)) != before) output(now);
 }
 
 void MixerNode::on_tick(TimeUs now) {

@@ -1,6 +1,8 @@
 // tiller-mixer's logic: picks the active wrench source, allocates it onto the thrusters and
 // publishes one normalised command per thruster (TILLER_THRUSTER_COMMAND) and the allocation
-// status (TILLER_ALLOCATION_STATUS) -- at the configured rate and at once on every new input.
+// status (TILLER_ALLOCATION_STATUS) -- at the configured rate, and at once on new input of the
+// ACTIVE source and when the active source or the arm state changes (a second wrench feed or a
+// joystick that is not in charge does not multiply the command rate).
 //
 // Inputs: TILLER_MANUAL_DEMAND (normalised stick vector, open loop), TILLER_WRENCH_VELOCITY and
 // TILLER_WRENCH_STATION (wrench, N / N m, body FRD), TILLER_ARBITRATION (which source is
@@ -38,6 +40,11 @@ struct MixerParams {
   TimeUs wrench_timeout_us = 500'000;
   TimeUs arbitration_timeout_us = 1'000'000;
   TimeUs arm_timeout_us = 500'000;
+  // `publish_at_once`: active_source (default): new input publishes at once only for the active
+  // source, and arm-state / arbitration messages only when they change what the mixer does;
+  // every_input: every message publishes at once (the behaviour the golden logs were recorded
+  // with).
+  bool publish_every_input = false;
 };
 
 // Reads config/mixer/<vehicle>.yaml (strict). `vehicle:` is resolved relative to the config
@@ -77,7 +84,8 @@ class MixerNode : public Node {
     Freshness fresh;
     Wrench tau = Wrench::Zero();
   };
-  void on_wrench(WrenchInput& in, const wrench_t& m, TimeUs now);
+  void on_wrench(WrenchInput& in, std::int8_t source, const wrench_t& m, TimeUs now);
+  std::int8_t source_now(TimeUs now);
   void output(TimeUs now);
 
   MixerParams p_;

@@ -83,7 +83,8 @@ TEST(MixerAllocation, SteadyStateAllocatesNothing) {
   const long after = g_allocs.load();
   EXPECT_EQ(after - before, 0) << "heap allocations in 10 s of steady-state mixing";
   EXPECT_GT(mixer.received(), 4000);
-  EXPECT_GT(mixer.published(), 4000);
+  // 13 s of 50 Hz ticks plus the active source's 100 Hz input, command + status each: ~3900.
+  EXPECT_GT(mixer.published(), 3500);
   EXPECT_TRUE(mixer.last_command().armed);
 }
 

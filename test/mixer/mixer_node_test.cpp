@@ -29,7 +29,12 @@ class MixerTest : public ::testing::Test {
  protected:
   void SetUp() override { start("seed000_rov4"); }
   void start(const std::string& vehicle) {
-    node = std::make_unique<MixerNode>(kSrc + "/config/mixer/" + vehicle + ".yaml");
+    start_file(kSrc + "/config/mixer/" + vehicle + ".yaml");
+  }
+  void start_file(const std::string& path) {
+    seen.clear();
+    statuses = 0;
+    node = std::make_unique<MixerNode>(path);
     ex = std::make_unique<LockstepExecutor>(0);
     ex->add(*node);
     ex->observe([this](const std::string& ch, const std::uint8_t* d, int n, TimeUs t) {
@@ -206,6 +211,158 @@ TEST_F(MixerTest, ArbitrationChoosesTheWrenchAndNanGivesNeutral) {
   EXPECT_FALSE(neutral(seen.back().cmd));
 }
 
+TEST_F(MixerTest, WrenchFeedsThatStopGiveNeutralAfterTheFreshnessLimit) {
+  // For each controller source: the wrench stops at 200 ms; with the 0.5 s limit the commands
+  // are the wrench's until 700 ms and neutral after it, and the neutral counter runs.
+  for (std::int8_t src : {wrench_t::SOURCE_VELOCITY_PID, wrench_t::SOURCE_STATION_KEEP}) {
+    SCOPED_TRACE(static_cast<int>(src));
+    start("seed000_rov4");
+    const char* ch =
+        src == wrench_t::SOURCE_VELOCITY_PID ? channels::kWrenchVelocity : channels::kWrenchStation;
+    for (TimeUs t = 0; t <= 2'000'000; t += 100'000) {
+      arm(t);
+      arbitration(t, src);
+    }
+    for (TimeUs t = 0; t <= 200'000; t += 20'000) wrench(ch, t, 30.0, 2.0);
+    ex->run_until(690'000);
+    EXPECT_FALSE(neutral(seen.back().cmd));
+    EXPECT_EQ(seen.back().cmd.source, src);
+    EXPECT_NEAR(node->last_result().achieved(0), 30.0, 1e-9);
+    const std::int64_t before = node->counter_value("neutral.no_valid_input");
+    const std::int64_t stale_before = node->stale();
+    ex->run_until(710'000);  // the tick at 700 ms is the last fresh one (limit inclusive)
+    ex->run_until(760'000);
+    EXPECT_TRUE(neutral(seen.back().cmd));
+    EXPECT_FALSE(seen.back().cmd.armed);
+    EXPECT_EQ(seen.back().cmd.source, wrench_t::SOURCE_NONE);
+    EXPECT_GT(node->counter_value("neutral.no_valid_input"), before);
+    EXPECT_EQ(node->stale(), stale_before + 1);
+    // Stays neutral while the feed is silent, and comes back with it.
+    ex->run_until(1'500'000);
+    EXPECT_TRUE(neutral(seen.back().cmd));
+    wrench(ch, 1'510'000, 30.0, 2.0);
+    ex->run_until(1'510'000);
+    EXPECT_EQ(seen.back().t, 1'510'000);
+    EXPECT_FALSE(neutral(seen.back().cmd));
+  }
+}
+
+TEST_F(MixerTest, EveryMixerConfigIsNeutralOnStaleAndNanInput) {
+  int configs = 0;
+  for (const auto& e : std::filesystem::directory_iterator(kSrc + "/config/mixer")) {
+    if (e.path().extension() != ".yaml") continue;
+    SCOPED_TRACE(e.path().string());
+    ++configs;
+    start_file(e.path().string());
+    const TimeUs limit = node->params().manual_timeout_us;
+    for (TimeUs t = 0; t <= 4'000'000; t += 100'000) arm(t);
+    // Stale stick: last at 0, neutral once older than its limit.
+    manual(0, 0.5, 0.3, 0.2);
+    ex->run_until(limit - 20'000);
+    EXPECT_FALSE(neutral(seen.back().cmd));
+    ex->run_until(limit + 40'000);
+    EXPECT_TRUE(neutral(seen.back().cmd));
+    EXPECT_GT(node->counter_value("neutral.no_valid_input"), 0);
+    EXPECT_GE(node->stale(), 1);
+    // NaN stick: neutral at once, counted.
+    manual(1'000'000, 0.5, 0.3);
+    ex->run_until(1'000'000);
+    EXPECT_FALSE(neutral(seen.back().cmd));
+    manual(1'010'000, std::nan(""), 0.3);
+    ex->run_until(1'010'000);
+    EXPECT_EQ(seen.back().t, 1'010'000);
+    EXPECT_TRUE(neutral(seen.back().cmd));
+    EXPECT_EQ(node->counter_value("rejected.manual_demand.range"), 1);
+    // NaN and stale wrench on the active controller source.
+    arbitration(2'000'000, wrench_t::SOURCE_VELOCITY_PID);
+    wrench(channels::kWrenchVelocity, 2'000'000, 20.0, 1.0);
+    ex->run_until(2'000'000);
+    EXPECT_FALSE(neutral(seen.back().cmd));
+    wrench(channels::kWrenchVelocity, 2'010'000, std::nan(""));
+    ex->run_until(2'010'000);
+    EXPECT_TRUE(neutral(seen.back().cmd));
+    EXPECT_EQ(node->counter_value("rejected.wrench.range"), 1);
+    wrench(channels::kWrenchVelocity, 2'020'000, 20.0, 1.0);
+    arbitration(2'100'000, wrench_t::SOURCE_VELOCITY_PID);
+    ex->run_until(2'100'000);
+    EXPECT_FALSE(neutral(seen.back().cmd));
+    ex->run_until(2'020'000 + node->params().wrench_timeout_us + 40'000);
+    EXPECT_TRUE(neutral(seen.back().cmd));
+  }
+  EXPECT_GE(configs, 8);
+}
+
+TEST_F(MixerTest, PublishesAtOnceOnlyForTheActiveSourceAndForChanges) {
+  for (TimeUs t = 0; t <= 1'000'000; t += 100'000) arm(t);
+  arbitration(0, wrench_t::SOURCE_VELOCITY_PID);
+  wrench(channels::kWrenchVelocity, 0, 20.0);
+  ex->run_until(100'000);
+  auto at = [&](TimeUs t) {
+    int k = 0;
+    for (const auto& s : seen) k += s.t == t ? 1 : 0;
+    return k;
+  };
+  wrench(channels::kWrenchStation, 107'000, -10.0);     // not active: waits for the tick
+  manual(109'000, 0.5, 0.0);                            // not active either
+  wrench(channels::kWrenchVelocity, 113'000, 25.0);     // active: at once
+  arbitration(115'000, wrench_t::SOURCE_VELOCITY_PID);  // no change
+  arm(117'000);                                         // still armed: no change
+  arbitration(123'000, wrench_t::SOURCE_STATION_KEEP);  // change: at once
+  arm(127'000, false);                                  // disarm: at once
+  ex->run_until(130'000);
+  EXPECT_EQ(at(107'000), 0);
+  EXPECT_EQ(at(109'000), 0);
+  EXPECT_EQ(at(113'000), 1);
+  EXPECT_EQ(at(115'000), 0);
+  EXPECT_EQ(at(117'000), 0);
+  EXPECT_EQ(at(120'000), 1);  // the tick
+  ASSERT_EQ(at(123'000), 1);
+  EXPECT_EQ(at(127'000), 1);
+  EXPECT_TRUE(neutral(seen.back().cmd));
+  for (const auto& s : seen) {
+    if (s.t == 123'000) {
+      EXPECT_EQ(s.cmd.source, wrench_t::SOURCE_STATION_KEEP);
+    }
+  }
+  // Two feeds at 100 Hz and a stick at 100 Hz: the command rate is the tick plus the active
+  // source's 100 Hz, not the sum of all feeds.
+  arm(200'000);
+  arbitration(200'000, wrench_t::SOURCE_VELOCITY_PID);
+  for (TimeUs t = 200'005; t < 1'200'000; t += 10'000) {
+    wrench(channels::kWrenchVelocity, t, 20.0);
+    wrench(channels::kWrenchStation, t + 1'000, -20.0);
+    manual(t + 2'000, 0.3, 0.0);
+    if ((t - 200'005) % 100'000 == 0) {
+      arm(t + 3'000);
+      arbitration(t + 3'000, wrench_t::SOURCE_VELOCITY_PID);
+    }
+  }
+  ex->run_until(1'199'999);
+  // 200 ms to 1.2 s: 50 ticks + 100 velocity wrenches + re-arming and the switch back to
+  // velocity_pid at 200 ms; nothing for the 100 station wrenches, 100 sticks, 10 + 10 repeats.
+  std::size_t in_window = 0;
+  for (const auto& s : seen) in_window += s.t >= 200'000 && s.t < 1'200'000 ? 1 : 0;
+  EXPECT_EQ(in_window, 50u + 100u + 2u);
+}
+
+TEST_F(MixerTest, PublishAtOnceEveryInputIsTheOldBehaviourOnRequest) {
+  // config/mixer/otter.yaml keeps `publish_at_once: every_input` (its golden log).
+  start("otter");
+  EXPECT_TRUE(node->params().publish_every_input);
+  arm(0);
+  arbitration(0, wrench_t::SOURCE_VELOCITY_PID);
+  ex->run_until(100'000);
+  wrench(channels::kWrenchStation, 107'000, -10.0);
+  manual(109'000, 0.5, 0.0);
+  arm(111'000);
+  ex->run_until(112'000);
+  int k = 0;
+  for (const auto& s : seen) k += s.t == 107'000 || s.t == 109'000 || s.t == 111'000 ? 1 : 0;
+  EXPECT_EQ(k, 3);
+  start("wamv");
+  EXPECT_FALSE(node->params().publish_every_input);
+}
+
 TEST(MixerReplay, ReplayingTheInputsGivesTheSameBytes) {
   // A lockstep run with every kind of input, recorded; then the inputs alone replayed through a
   // fresh node: every output (commands, status, heartbeats) identical, bit for bit.
@@ -267,7 +424,7 @@ TEST(MixerConfig, EveryPresetConfigLoadsFromAnyDirectory) {
   const auto here = std::filesystem::current_path();
   std::filesystem::current_path("/");
   for (const char* v : {"seed000_rov4", "seed001_rov6", "seed004_usv_x", "seed004_usv_x_table",
-                        "seed004_usv_h", "otter", "wamv"}) {
+                        "seed004_usv_h", "otter", "wamv", "seed001_rov6_table"}) {
     MixerNode node(kSrc + "/config/mixer/" + v + ".yaml");
     EXPECT_EQ(node.allocator().vehicle().name, v);
     EXPECT_EQ(node.params().rate_hz, 50.0);
