@@ -131,6 +131,11 @@ int LiveExecutor::run() {
   std::vector<pollfd> pfds;
   std::vector<Fd*> owners;
   int fd_failures = 0;
+  // The schedule starts now: time spent between add() and run() (opening devices, say) is not
+  // counted as missed ticks.
+  const TimeUs start = wall_time_us();
+  for (std::size_t i = 0; i < nodes_.size(); ++i)
+    next_tick_[i] = std::max(next_tick_[i], nodes_[i]->next_tick_at_or_after(start));
   while (!stop_.load() && !g_signalled.load()) {
     TimeUs now = wall_time_us();
     // Tick every node that is due, told its grid time. A loop that fell behind runs only the
