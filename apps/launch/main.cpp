@@ -112,7 +112,7 @@ void write_manifest(const std::string& path, const LaunchFile& lf, const std::st
     << "time_tolerance_ms: 20\n"
     << "tolerance: 0.01\n"
     << "relative_tolerance: 0.02\n"
-    << "live_match: 0.9\n"
+    << "live_match: 0.85\n"
     << "processes:\n";
   for (const auto& p : procs) {
     if (p.name == "logger" && p.command == "lcm-logger") continue;
@@ -185,6 +185,13 @@ int run(int argc, char** argv) {
   } catch (const std::invalid_argument& e) {
     std::cerr << "tiller-launch: " << e.what() << "\n";
     return kExitUsage;
+  }
+
+  std::vector<std::string> held_back;
+  for (std::size_t i = 0; i < lf.processes.size(); ++i) {
+    if (std::find(chosen.begin(), chosen.end(), i) == chosen.end() && !lf.processes[i].autostart)
+      held_back.push_back(lf.processes[i].name + " (autostart: false; start it with --group " +
+                          lf.processes[i].group + " or --only " + lf.processes[i].name + ")");
   }
 
   // The run's log.
@@ -260,6 +267,7 @@ int run(int argc, char** argv) {
         std::cout << " " << host.argv_of(p)[k];
       std::cout << "  (restart " << to_string(p.restart) << ")\n";
     }
+    for (const auto& h : held_back) std::cout << "  not started: " << h << "\n";
     return kExitOk;
   }
   if (log) {
@@ -289,6 +297,7 @@ int run(int argc, char** argv) {
   Supervisor sup(procs, lf.ends_with, lf.grace_s, host, note);
   host.print("launch",
              lf.name + ": " + std::to_string(procs.size()) + " processes, lcm " + lf.lcm_url);
+  for (const auto& h : held_back) host.print("launch", "not started: " + h);
   if (log)
     host.print("launch", "log: " + log_file + log_suffix(lf.logger) + " (replay manifest " +
                              logtools_stem(log_file) + ".replay.yaml)");

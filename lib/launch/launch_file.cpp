@@ -67,6 +67,7 @@ ProcessSpec load_process(const config::Value& p) {
   s.max_restarts = static_cast<int>(p.integer_or("max_restarts", 5, 0, 1000000));
   s.stable_after_s = p.number_or("stable_after_s", 30.0, {0.0, 86400.0});
   s.critical = p.boolean_or("critical", false);
+  s.autostart = p.boolean_or("autostart", true);
   return s;
 }
 
@@ -196,7 +197,7 @@ std::vector<std::size_t> select(const LaunchFile& lf, const std::vector<std::str
   std::vector<std::size_t> out;
   for (std::size_t i = 0; i < lf.processes.size(); ++i) {
     const auto& p = lf.processes[i];
-    const bool all = groups.empty() && names.empty();
+    const bool all = groups.empty() && names.empty() && p.autostart;
     const bool in_group = std::find(groups.begin(), groups.end(), p.group) != groups.end();
     const bool named = std::find(names.begin(), names.end(), p.name) != names.end();
     if (all || in_group || named) out.push_back(i);

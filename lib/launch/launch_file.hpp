@@ -22,6 +22,8 @@
 //       backoff_max_s: 10
 //       max_restarts: 5          # then the process is given up on
 //       critical: false          # true: giving up on it stops the whole run (exit 3)
+//       autostart: true          # false: started only when its group or name is asked for
+//                                # (--group / --only), e.g. a mission that arms a real boat
 #pragma once
 
 #include <map>
@@ -51,7 +53,8 @@ struct ProcessSpec {
   int max_restarts = 5;
   double stable_after_s = 30.0;  // running this long resets the back-off and the restart count
   bool critical = false;
-  int line = 0;  // line in the launch file (for messages)
+  bool autostart = true;  // false: only with --group G / --only NAME
+  int line = 0;           // line in the launch file (for messages)
 };
 
 struct LoggerSpec {
@@ -86,8 +89,9 @@ LaunchFile load_launch_file(const std::string& path);
 // ${NAME:-default} gives `default` when NAME is unset or empty.
 std::string substitute(const std::string& s, const std::map<std::string, std::string>& vars);
 
-// Which processes to run: all when both lists are empty; else those in one of `groups` or
-// named in `names`. Unknown group or name: std::invalid_argument naming it.
+// Which processes to run: every autostart one when both lists are empty; else those in one of
+// `groups` or named in `names` (autostart or not). Unknown group or name: std::invalid_argument
+// naming it.
 std::vector<std::size_t> select(const LaunchFile& lf, const std::vector<std::string>& groups,
                                 const std::vector<std::string>& names);
 

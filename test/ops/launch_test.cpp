@@ -268,8 +268,14 @@ TEST(Supervisor, ProgramThatCannotStartFollowsItsPolicy) {
 }
 
 // ---------------------------------------------------------------- the real launcher
+// Alive and not a zombie (an orphan reparented to an init that has not reaped it yet is dead).
 bool alive(int pid) {
-  return ::kill(pid, 0) == 0;
+  if (::kill(pid, 0) != 0) return false;
+  std::ifstream st("/proc/" + std::to_string(pid) + "/stat");
+  std::string line;
+  std::getline(st, line);
+  const auto close = line.rfind(')');
+  return close == std::string::npos || close + 2 >= line.size() || line[close + 2] != 'Z';
 }
 
 int read_pid(const fs::path& f) {
@@ -397,10 +403,15 @@ TEST(LaunchProcess, SigtermStopsEverythingWithNoOrphan) {
 TEST(LaunchProcess, ChildrenDieWithAKilledLauncher) {
   Launcher l("name: t\nroot: .\nlogger: {enabled: false}\nprocesses:\n" + sleeper("a"));
   ASSERT_TRUE(wait_for([&] { return read_pid(l.dir / "a.pid") > 0; }));
+  ASSERT_TRUE(wait_for([&] { return read_pid(l.dir / "a.child") > 0; }));
   const int a = read_pid(l.dir / "a.pid");
+  const int grandchild = read_pid(l.dir / "a.child");  // sh's background sleep
+  ASSERT_TRUE(alive(grandchild));
   ::kill(l.pid, SIGKILL);
   l.wait_exit();
   EXPECT_TRUE(wait_for([&] { return !alive(a); }, 3));  // PR_SET_PDEATHSIG
+  // Not covered by PDEATHSIG: the launcher's guard kills the child's process group.
+  EXPECT_TRUE(wait_for([&] { return !alive(grandchild); }, 3)) << "grandchild " << grandchild;
 }
 
 TEST(LaunchProcess, EndsWithGivesTheRunsExitStatusAndBadFileGivesTwo) {
@@ -477,7 +488,50 @@ TEST(LaunchFiles, LoggerCommandLineFromConfig) {
                           (dir / "run.lcmlog").string()),
             std::string::npos)
       << ss.str();
+  // split_mb with rotate (bounded): --rotate instead of --increment, and without --log-file a
+  // fixed name <dir>/<launch name>.lcmlog so the runs of past boots rotate away too.
+  std::ofstream(dir / "r.yaml") << "name: rot\nroot: .\n"
+                                   "logger: {dir: mylogs, split_mb: 50, rotate: 20}\n"
+                                   "processes:\n  - {name: a, command: sh}\n";
+  const std::string cmd2 = std::string(TILLER_BIN_DIR) + "/tiller-launch --check " +
+                           (dir / "r.yaml").string() + " > " + out;
+  ASSERT_EQ(std::system(cmd2.c_str()), 0);
+  std::stringstream s2;
+  s2 << std::ifstream(out).rdbuf();
+  EXPECT_NE(s2.str().find("--split-mb=50.000000 --rotate=20 --lcm-url="), std::string::npos)
+      << s2.str();
+  EXPECT_NE(s2.str().find((fs::canonical(dir) / "mylogs" / "rot.lcmlog").string()),
+            std::string::npos)
+      << s2.str();
+  EXPECT_EQ(s2.str().find("--increment"), std::string::npos) << s2.str();
   fs::remove_all(dir);
+}
+
+// autostart: false keeps a process out of a plain start; its group or name starts it.
+TEST(LaunchFile, AutostartFalseOnlyWhenAskedFor) {
+  const auto v = config::Value::parse(
+      "name: t\nroot: .\nprocesses:\n  - {name: a, command: sh}\n"
+      "  - {name: m, command: sh, group: mission, autostart: false}\n",
+      "t.yaml");
+  const LaunchFile lf = load_launch(v, ".");
+  EXPECT_EQ(select(lf, {}, {}), (std::vector<std::size_t>{0}));
+  EXPECT_EQ(select(lf, {"mission"}, {}), (std::vector<std::size_t>{1}));
+  EXPECT_EQ(select(lf, {"default", "mission"}, {}), (std::vector<std::size_t>{0, 1}));
+  EXPECT_EQ(select(lf, {}, {"m"}), (std::vector<std::size_t>{1}));
+}
+
+// The real USV never arms at a plain start (the boot service): its mission is not started.
+TEST(LaunchFiles, RealUsvMissionIsNotStartedByDefault) {
+  const LaunchFile lf =
+      load_launch_file(std::string(TILLER_SOURCE_DIR) + "/config/launch/real_usv.yaml");
+  bool has_localisation = false;
+  for (std::size_t i : select(lf, {}, {})) {
+    EXPECT_NE(lf.processes[i].name, "mission");
+    has_localisation = has_localisation || lf.processes[i].name == "localisation";
+  }
+  EXPECT_TRUE(has_localisation);
+  EXPECT_GT(lf.logger.rotate, 0);  // bounded logging on a boot service
+  EXPECT_GT(lf.logger.split_mb, 0);
 }
 
 }  // namespace

@@ -1,6 +1,8 @@
 #!/bin/sh
 # The main job's mission completes inside a private network namespace (tools/main-job runs its
-# stack under tools/netns-run, as in CI): exit 0, every waypoint reached, a log and a PNG plot.
+# stack under tools/netns-run, as in CI): exit 0, every waypoint reached, a log and a PNG plot,
+# and its log replays through today's code with the launcher's manifest (PASS unchanged, FAIL
+# with a changed gain).
 # About 100 s of wall time (the default mission flies in real time). And it fails loudly (exit 1,
 # with the reason) when a mission cannot complete in its time limit. Args: SOURCE_DIR BUILD_DIR
 set -u
@@ -17,6 +19,27 @@ log=$(echo "$out" | sed -n 's/^tiller: log  //p')
 png=$(echo "$out" | sed -n 's/^tiller: plot //p')
 [ -s "$log" ] || { echo "FAIL: no log at '$log'"; fail=1; }
 [ -s "$png" ] && head -c 4 "$png" | grep -q PNG || { echo "FAIL: no PNG at '$png'"; fail=1; }
+# The newcomer's replay (README): tiller-replay LOG, from another directory, with the manifest
+# tiller-launch wrote next to the log. Nothing changed: PASS (exit 0), every replayable process
+# replayed as a live log. A changed gain (the path follower's max_speed 1.5 -> 1.6 m/s): FAIL
+# (exit 1) naming the channel and the first difference.
+manifest="${log%.lcmlog}.replay.yaml"
+[ -s "$manifest" ] || { echo "FAIL: no replay manifest $manifest"; fail=1; }
+rout=$(cd /tmp && "$build/bin/tiller-replay" "$log" 2>&1); rrc=$?
+echo "$rout" | grep -E "^[a-z]|summary|DIFFERENT"
+[ $rrc -eq 0 ] || { echo "FAIL: replaying the unchanged main-job log gave exit $rrc, expected 0 (PASS)"; fail=1; }
+for p in esc mixer path-follower velocity-pid station-keep sim; do
+  echo "$rout" | grep -q "^$p (config /" || { echo "FAIL: $p was not replayed"; fail=1; }
+done
+sed 's/^  max_speed: 1.5 /  max_speed: 1.6 /' "$src/config/guidance/default.yaml" > "$tmp/guidance_changed.yaml"
+cmp -s "$src/config/guidance/default.yaml" "$tmp/guidance_changed.yaml" && { echo "FAIL: could not change max_speed (config changed?)"; fail=1; }
+rout=$(cd /tmp && "$build/bin/tiller-replay" "$log" --process path-follower --config "$tmp/guidance_changed.yaml" 2>&1); rrc=$?
+echo "$rout" | grep -E "DIFFERENT|first difference|^tiller-replay"
+[ $rrc -eq 1 ] || { echo "FAIL: a changed gain gave exit $rrc, expected 1 (FAIL)"; fail=1; }
+echo "$rout" | grep -q "TILLER_VELOCITY_SETPOINT *DIFFERENT" || { echo "FAIL: the setpoint difference is not reported"; fail=1; }
+echo "$rout" | grep -Eq "first difference: message [0-9]+ at t=[0-9.]+ s, velocity\[0\]: old 1.5, new 1.6" ||
+  { echo "FAIL: the first difference (time, field, old 1.5, new 1.6) is not reported"; fail=1; }
+
 # Clean stop: no process needed SIGKILL or crashed while stopping.
 echo "$out" | grep -E "needed SIGKILL|killed by SIG(SEGV|ABRT)" && { echo "FAIL: unclean stop"; fail=1; }
 

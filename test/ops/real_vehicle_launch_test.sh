@@ -1,0 +1,73 @@
+#!/bin/sh
+# The real ROV launch files, started as on the vehicle but without hardware: ESC_CONFIG points
+# tiller-esc at the dry-run configs (they print the bus bytes instead of writing them) and
+# JOYSTICK at a FIFO (no stick: teleop waits, neutral). In the test's network namespace
+# (tools/netns-run). Checks that every process comes up (logger, esc, mixer, teleop running),
+# the dry run prints the neutral writes (seed 000: throttle 0 to each BlueESC; seed 001: 1500 us,
+# 0x0133 counts, on each PCA9685 channel), the log rotates under its fixed name with a replay
+# manifest, and SIGTERM stops everything (exit 0, no process of the run left).
+# Args: SOURCE_DIR BUILD_DIR
+set -u
+src="$1"; bin="$2/bin"
+cd "$src"
+tmp=$(mktemp -d)
+launcher=""
+trap '[ -n "$launcher" ] && kill -KILL "$launcher" 2>/dev/null; rm -rf "$tmp"' EXIT
+fail=0
+
+# wait_for SECONDS COMMAND...: polls until COMMAND succeeds (a deadline, not a timing assertion).
+wait_for() {
+  n=$(( $1 * 10 )); shift
+  while [ $n -gt 0 ]; do "$@" && return 0; sleep 0.1; n=$((n - 1)); done
+  "$@"
+}
+all_running() {
+  "$bin/tiller-launch" status "$1" --status-file "$2" > "$2.now" 2>/dev/null || return 1
+  for p in logger esc mixer teleop; do
+    grep -Eq "^$p +[a-z]+ +running" "$2.now" || return 1
+  done
+}
+
+for vehicle in seed000 seed001; do
+  file=config/launch/real_${vehicle}_rov.yaml
+  name=$(sed -n 's/^name: //p' "$file")
+  dir="$tmp/$vehicle"; mkdir -p "$dir"
+  mkfifo "$dir/js"
+  exec 3<>"$dir/js"          # keep the FIFO open: teleop sees a joystick that sends nothing
+  ESC_CONFIG=config/esc/${vehicle}_dry_run.yaml JOYSTICK="$dir/js" \
+    "$bin/tiller-launch" "$file" --log-dir "$dir/logs" --status-file "$dir/status" > "$dir/out" 2>&1 &
+  launcher=$!
+  if ! wait_for 15 all_running "$file" "$dir/status"; then
+    echo "FAIL: $file: not every process running:"; cat "$dir/status.now" 2>/dev/null; fail=1
+  fi
+  # Neutral bus writes from the dry run.
+  if [ $vehicle = seed000 ]; then
+    for a in 29 2a 2b 2c; do
+      wait_for 5 grep -q "^esc .*| dry-run .* 0x$a write 00 00 00" "$dir/out" ||
+        { echo "FAIL: $file: no neutral write (00 00 00) to ESC 0x$a"; fail=1; }
+    done
+  else
+    wait_for 5 sh -c "[ \$(grep -c '^esc .*| dry-run .* 0x40 write [0-9a-f][0-9a-f] 00 00 33 01' '$dir/out') -ge 6 ]" ||
+      { echo "FAIL: $file: fewer than 6 neutral PCA9685 writes (1500 us = 00 00 33 01)"; fail=1; }
+  fi
+  pids=$(awk 'NR > 2 && $4 ~ /^[0-9]+$/ { print $4 }' "$dir/status.now" 2>/dev/null)
+  kill -TERM $launcher
+  wait $launcher; rc=$?
+  launcher=""
+  exec 3>&-
+  [ $rc -eq 0 ] || { echo "FAIL: $file: tiller-launch exited $rc after SIGTERM"; fail=1; }
+  for p in $pids; do
+    if kill -0 "$p" 2>/dev/null && ! grep -q '^State:.*zombie' "/proc/$p/status" 2>/dev/null; then
+      echo "FAIL: $file: process $p still alive after the launcher stopped"; fail=1
+    fi
+  done
+  [ -n "$pids" ] || { echo "FAIL: $file: no pids in the status table"; fail=1; }
+  grep -q "the run ended\|stopped\|SIGTERM" "$dir/out" || { echo "FAIL: $file: no stop reason printed"; fail=1; }
+  # Bounded logging: rotate under a fixed name (the newest is .0), with its replay manifest.
+  [ -s "$dir/logs/$name.lcmlog.0" ] || { echo "FAIL: $file: no rotated log $dir/logs/$name.lcmlog.0"; ls "$dir/logs"; fail=1; }
+  grep -q "program: \"tiller-esc\"" "$dir/logs/$name.replay.yaml" 2>/dev/null ||
+    { echo "FAIL: $file: no replay manifest next to the log"; fail=1; }
+  grep -v '^logger' "$dir/out" | tail -12
+done
+[ $fail -eq 0 ] && echo "real_vehicle_launch_test: ok"
+exit $fail
