@@ -14,6 +14,9 @@ void PathFollower::clear() {
   seg_ = 0;
   complete_ = false;
   skipped_ = 0;
+  stepped_back_ = 0;
+  entered_by_cut_ = false;
+  entered_by_skip_ = false;
   integral_.setZero();
 }
 
@@ -113,12 +116,33 @@ FollowerOutput PathFollower::update(const Vec2& pos, double heading, double dt) 
     const bool reached = d2 < p_.acceptance_radius;
     const bool cut = !last && d2 < p_.corner_cut_radius;
     if (reached || cut || rel == SegmentRelation::kInFront) {
-      if (min_dist_[static_cast<std::size_t>(seg_ + 1)] >= p_.acceptance_radius && !cut) {
-        ++skipped_;
-      }
+      const bool skip =
+          min_dist_[static_cast<std::size_t>(seg_ + 1)] >= p_.acceptance_radius && !cut;
+      if (skip) ++skipped_;
       ++seg_;
+      entered_by_cut_ = cut;
+      entered_by_skip_ = skip;
       if (last) complete_ = true;
       continue;
+    }
+    // Behind the segment (the seed: "most likely the vehicle should decrement the selected
+    // point, as it is likely on the previous line segment"), other than after a corner cut:
+    // step back, but only when the vehicle is really on the previous segment (in its middle)
+    // and not within acceptance_radius of the point between them (which it would reach again
+    // at once: no back-and-forth). A point counted as skipped is uncounted: it can still be
+    // reached.
+    if (rel == SegmentRelation::kBehind && seg_ > 0 && !entered_by_cut_ &&
+        (pos - p1).norm() >= std::max(p_.acceptance_radius, p_.corner_cut_radius)) {
+      const Vec2& p0 = pts_[static_cast<std::size_t>(seg_ - 1)].position;
+      const Vec2 s0 = p1 - p0;
+      if (s0.dot(pos - p0) >= 0 && s0.dot(pos - p1) <= 0) {
+        if (entered_by_skip_) --skipped_;
+        --seg_;
+        entered_by_cut_ = false;
+        entered_by_skip_ = false;
+        ++stepped_back_;
+        continue;
+      }
     }
     break;
   }
@@ -126,6 +150,7 @@ FollowerOutput PathFollower::update(const Vec2& pos, double heading, double dt) 
   const Vec2 goal = pts_.back().position;
   out.distance_to_goal = (goal - pos).norm();
   out.skipped = skipped_;
+  out.stepped_back = stepped_back_;
   out.relation = rel;
   Vec2 v(0, 0);
   if (complete_) {

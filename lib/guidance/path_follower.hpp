@@ -21,7 +21,9 @@
 // in front of it (p2 is then skipped if it never came within acceptance_radius); within
 // corner_cut_radius of p2 the follower already follows the next segment (the corner cut).
 // Passed points are skipped in one update until a segment is found that the vehicle is behind
-// or in the middle of.
+// or in the middle of. Behind the current segment (other than after a corner cut), farther
+// than acceptance_radius from its first point and in the middle of the previous segment, the
+// follower steps back to the previous segment, as the seed's notes say it most likely should.
 //
 // Beyond the seed: an integral cross-track law (integral LOS): a world-frame velocity
 // correction integrates the vector from the vehicle to the path, so a steady cross current
@@ -89,6 +91,7 @@ struct FollowerOutput {
   double remaining_path = 0;         // m, along the path to the last point
   bool complete = false;             // every segment done
   int skipped = 0;                   // points passed without coming within acceptance_radius
+  int stepped_back = 0;              // times the follower went back to the previous segment
   // The factors applied (for tuning plots and tests).
   double along_speed = 0, approach_speed = 0, turn_factor = 1, heading_factor = 1;
   Vec2 integral_correction{0, 0};
@@ -129,6 +132,9 @@ class PathFollower {
   int seg_ = 0;
   bool complete_ = false;
   int skipped_ = 0;
+  int stepped_back_ = 0;
+  bool entered_by_cut_ = false;   // the current segment was taken early, by the corner cut
+  bool entered_by_skip_ = false;  // ... by passing its first point outside acceptance_radius
   bool is_translation_ = false;
   bool goal_heading_valid_ = false;
   double goal_heading_ = 0;

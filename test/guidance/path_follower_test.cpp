@@ -78,13 +78,53 @@ TEST(PathFollower, BehindMiddleInFrontByDotProducts) {
   PathFollower f(seed_params());
   f.set_path(pts({{0, 0}, {10, 0}, {10, 10}}), Vec2(0, 0), 0, false);
   EXPECT_EQ(f.update(Vec2(-2, 0.5), 0, 0).relation, SegmentRelation::kBehind);
-  EXPECT_EQ(f.update(Vec2(-2, 0.5), 0, 0).segment, 0);  // behind: keeps the segment
+  EXPECT_EQ(f.update(Vec2(-2, 0.5), 0, 0).segment, 0);  // behind the first: nothing before it
   EXPECT_EQ(f.update(Vec2(5, 3), 0, 0).relation, SegmentRelation::kMiddle);
   // In front of segment 0 (passed (10,0) 3 m away): moves on; middle of segment 1.
   const auto o = f.update(Vec2(12, 3), 0, 0);
   EXPECT_EQ(o.segment, 1);
   EXPECT_EQ(o.relation, SegmentRelation::kMiddle);
   EXPECT_EQ(o.skipped, 1);
+}
+
+// The seed's notes: behind the segment, "most likely the vehicle should decrement the selected
+// point, as it is likely on the previous line segment", except after a corner cut.
+TEST(PathFollower, BehindStepsBackToThePreviousSegmentExceptAfterACornerCut) {
+  PathFollower f(seed_params());
+  f.set_path(pts({{0, 0}, {10, 0}, {10, 10}}), Vec2(0, 0), 0, false);
+  // Passes (10, 0) 3 m to its west, in front of segment 0: moves on, (10, 0) skipped.
+  auto o = f.update(Vec2(10.5, -3), 0, 0);
+  EXPECT_EQ(o.segment, 1);
+  EXPECT_EQ(o.skipped, 1);
+  EXPECT_EQ(o.relation, SegmentRelation::kBehind);  // of segment 1, and in front of segment 0
+  // Set back (a current): behind segment 1 and in the middle of segment 0, 3.6 m from (10, 0):
+  // back to segment 0, and (10, 0) is no longer counted as skipped.
+  o = f.update(Vec2(8, -3), 0, 0);
+  EXPECT_EQ(o.segment, 0);
+  EXPECT_EQ(o.relation, SegmentRelation::kMiddle);
+  EXPECT_EQ(o.skipped, 0);
+  EXPECT_EQ(o.stepped_back, 1);
+  EXPECT_GT(o.velocity.y(), 0.0);  // toward segment 0's line
+  // Reaches (10, 0) this time: segment 1, nothing skipped.
+  o = f.update(Vec2(9.5, -0.2), 0, 0);
+  EXPECT_EQ(o.segment, 1);
+  EXPECT_EQ(o.skipped, 0);
+
+  // After a corner cut (within corner_cut_radius of (10, 0)), behind the next segment: keeps it.
+  PathFollower g(seed_params());
+  g.set_path(pts({{0, 0}, {10, 0}, {10, 10}}), Vec2(0, 0), 0, false);
+  EXPECT_EQ(g.update(Vec2(9.3, -0.5), 0, 0).segment, 1);  // the cut
+  o = g.update(Vec2(8.5, -1.5), 0, 0);                    // drifted back, 2.1 m from the corner
+  EXPECT_EQ(o.segment, 1);
+  EXPECT_EQ(o.relation, SegmentRelation::kBehind);
+  EXPECT_EQ(o.stepped_back, 0);
+  // Behind but within acceptance_radius of the corner: no back-and-forth.
+  PathFollower h(seed_params());
+  h.set_path(pts({{0, 0}, {10, 0}, {10, 10}}), Vec2(0, 0), 0, false);
+  h.update(Vec2(10.5, -3), 0, 0);  // skipped, as above
+  o = h.update(Vec2(9.6, -0.5), 0, 0);
+  EXPECT_EQ(o.segment, 1);
+  EXPECT_EQ(o.stepped_back, 0);
 }
 
 TEST(PathFollower, SkipsEveryPassedPointInOneUpdate) {
