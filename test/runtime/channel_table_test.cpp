@@ -6,7 +6,9 @@
 // a row.
 #include <gtest/gtest.h>
 
+#include <cstdio>
 #include <fstream>
+#include <initializer_list>
 #include <map>
 #include <memory>
 #include <regex>
@@ -26,6 +28,7 @@
 #include "mission/mission_node.hpp"
 #include "mixer/mixer_node.hpp"
 #include "runtime/channels.hpp"
+#include "runtime/lockstep.hpp"
 #include "sim/sim_node.hpp"
 #include "teleop/teleop_node.hpp"
 #include "teleop/teleop_params.hpp"
@@ -230,6 +233,48 @@ TEST(ChannelTable, UnadvertisedPublishIsCounted) {
   EXPECT_EQ(s.published_channels(),
             (std::vector<std::string>{"DECLARED", "TILLER_HEARTBEAT_SLOPPY"}));
   EXPECT_EQ(s.published_type("DECLARED"), "heartbeat_t");
+}
+
+// The whole stack in lockstep for a minute of a mission: no node publishes on a channel it did
+// not advertise (no "unadvertised.*" counter in any heartbeat), and every channel that goes on
+// the bus has a row in the README.
+TEST(ChannelTable, FullStackPublishesOnlyWhatItAdvertises) {
+  const auto control = config::Value::load_file(kRoot + "/config/control/seed004_usv_x.yaml");
+  control::VelocityPidNode pid(control::load_velocity_pid_node_params(control));
+  control::StationKeepNode station(control::load_station_keep_node_params(control));
+  const auto guidance = config::Value::load_file(kRoot + "/config/guidance/default.yaml");
+  guidance::PathFollowerNode follower(guidance::load_follower_node_params(guidance));
+  MixerNode mixer(kRoot + "/config/mixer/seed004_usv_x.yaml");
+  EscNode esc(kRoot + "/config/esc/seed004_usv_x_sim.yaml");
+  SimNode sim(kRoot + "/config/sim/sim.yaml");
+  mission::MissionNode mission(mission::load_mission_file(kRoot + "/config/missions/default.yaml"),
+                               1, kUsPerSecond);
+  LockstepExecutor ex(0);
+  for (Node* n :
+       std::initializer_list<Node*>{&sim, &esc, &mixer, &pid, &station, &follower, &mission})
+    ex.add(*n);
+  std::set<std::string> on_bus, unadvertised;
+  ex.observe([&](const std::string& ch, const std::uint8_t* d, int n, TimeUs) {
+    on_bus.insert(ch);
+    heartbeat_t h;
+    if (ch.rfind(channels::kHeartbeatPrefix, 0) != 0 || h.decode(d, 0, n) != n) return;
+    for (int i = 0; i < h.n_counters; ++i) {
+      if (h.counter_names[i].rfind("unadvertised.", 0) == 0)
+        unadvertised.insert(h.process + ": " + h.counter_names[i]);
+    }
+  });
+  ex.run_until(60 * kUsPerSecond);
+  EXPECT_TRUE(unadvertised.empty()) << *unadvertised.begin();
+  EXPECT_GT(on_bus.size(), 15u);
+  std::printf("%zu channels on the bus, %lld thruster commands at the ESC\n", on_bus.size(),
+              static_cast<long long>(esc.received()));
+  const auto rows = read_table();
+  std::set<std::string> in_table;
+  for (const auto& r : rows) in_table.insert(r.channels.begin(), r.channels.end());
+  for (const auto& ch : on_bus) {
+    if (ch.rfind(channels::kHeartbeatPrefix, 0) == 0) continue;
+    EXPECT_TRUE(in_table.count(ch)) << ch << " is on the bus but has no row in the README";
+  }
 }
 
 }  // namespace
