@@ -16,6 +16,7 @@
 #include <functional>
 #include <iostream>
 #include <optional>
+#include <set>
 #include <sstream>
 
 #include "logtools/csv.hpp"
@@ -143,8 +144,8 @@ int main(int argc, char** argv) {
     const auto& p = a.positional;
     if (p.size() == 4 && p[0] == "wait") return wait_for(a);
     if (p.size() == 2 && p[0] == "summary") {
-      std::cout << p[1] << ": "
-                << logtools::format_summary(logtools::summarize(logtools::read_any_log(p[1])));
+      const auto summary = logtools::summarize(logtools::read_any_log(p[1]));
+      std::cout << p[1] << ": " << logtools::format_summary(summary);
       return 0;
     }
     if (p.size() == 3 && (p[0] == "csv" || p[0] == "fields")) {
@@ -164,6 +165,30 @@ int main(int argc, char** argv) {
         for (const auto& f : d.fields)
           std::cout << "  " << f.path << " = " << f.to_string() << "\n";
         return 0;
+      }
+      // Every --fields name must choose something; else list what there is.
+      const auto wanted = split_list(a.get("fields"));
+      if (!wanted.empty()) {
+        std::vector<std::string> paths;
+        std::set<std::string> seen;
+        logtools::Decoded d;
+        std::string type;
+        for (const auto& e : events) {
+          if (!logtools::tiller_types().decode(e.data.data(), e.data.size(), d)) continue;
+          type = d.type->name;
+          for (const auto& f : d.fields)
+            if (seen.insert(f.path).second) paths.push_back(f.path);
+        }
+        for (const auto& w : wanted) {
+          bool any = false;
+          for (const auto& path : paths) any = any || logtools::field_selected(path, {w});
+          if (any) continue;
+          std::string list;
+          for (const auto& path : paths) list += (list.empty() ? "" : ", ") + path;
+          std::cerr << "tiller-log: --fields: no field \"" << w << "\" in " << p[2]
+                    << (type.empty() ? "" : " (" + type + ")") << "; its fields: " << list << "\n";
+          return 2;
+        }
       }
       std::size_t skipped = 0;
       std::size_t rows = 0;

@@ -4,6 +4,9 @@
 #include <sys/wait.h>
 #include <unistd.h>
 
+#include <cerrno>
+#include <cstdio>
+#include <cstring>
 #include <filesystem>
 #include <stdexcept>
 
@@ -25,8 +28,25 @@ std::string log_stem(const std::string& path) {
   return s;
 }
 
+// lcm::LogFile reads anything as a log of zero events: say what the file is instead.
+void check_lcm_log(const std::string& path, const std::string& shown) {
+  std::FILE* f = std::fopen(path.c_str(), "rb");
+  if (!f) throw std::runtime_error(shown + ": cannot open it (" + std::strerror(errno) + ")");
+  unsigned char m[4] = {0, 0, 0, 0};
+  const std::size_t n = std::fread(m, 1, 4, f);
+  std::fclose(f);
+  if (n == 0) throw std::runtime_error(shown + ": the file is empty (0 bytes), not an LCM log");
+  if (n < 4 || m[0] != 0xED || m[1] != 0xA1 || m[2] != 0xDA || m[3] != 0x01)
+    throw std::runtime_error(shown +
+                             ": not an LCM log (it does not start with the LCM event magic "
+                             "0xEDA1DA01)");
+}
+
 std::vector<Event> read_any_log(const std::string& path, const std::string& channel_regex) {
-  if (!ends_with(path, ".gz")) return read_log(path, channel_regex);
+  if (!ends_with(path, ".gz")) {
+    check_lcm_log(path, path);
+    return read_log(path, channel_regex);
+  }
   if (!std::filesystem::exists(path)) throw std::runtime_error(path + ": no such file");
   char tmpl[] = "/tmp/tiller-log-XXXXXX";
   const int fd = ::mkstemp(tmpl);
@@ -45,6 +65,7 @@ std::vector<Event> read_any_log(const std::string& path, const std::string& chan
     throw std::runtime_error(path + ": gzip could not decompress it");
   }
   try {
+    check_lcm_log(tmpl, path + " (decompressed)");
     auto events = read_log(tmpl, channel_regex);
     ::unlink(tmpl);
     return events;

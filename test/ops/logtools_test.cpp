@@ -10,9 +10,16 @@
 #include <tiller/path_t.hpp>
 #include <tiller/thruster_command_t.hpp>
 
+#include <unistd.h>
+#include <cstdlib>
+#include <filesystem>
+#include <fstream>
+
 #include "logtools/csv.hpp"
 #include "logtools/lcm_schema.hpp"
+#include "logtools/log_io.hpp"
 #include "logtools/logsummary.hpp"
+#include "runtime/log.hpp"
 
 namespace tiller::logtools {
 namespace {
@@ -116,6 +123,57 @@ TEST(Csv, SelectsFieldsByPrefixAndUnitesVariableArrays) {
             "0.500000,port,-0.25,\"stbd,x\",1\n");
   EXPECT_TRUE(field_selected("waypoints[3].heading", {"waypoints"}));
   EXPECT_FALSE(field_selected("waypoints_x", {"waypoints"}));
+}
+
+// A file that is not an LCM log is named as such (lcm::LogFile would read it as 0 events).
+TEST(LogIo, NotAnLcmLogIsSaidSo) {
+  namespace fs = std::filesystem;
+  const fs::path dir = fs::temp_directory_path() / ("tiller-logio-" + std::to_string(::getpid()));
+  fs::create_directories(dir);
+  std::ofstream(dir / "text.lcmlog") << "hello, not a log\n";
+  std::ofstream(dir / "empty.lcmlog");
+  auto message = [](const fs::path& p) {
+    try {
+      read_any_log(p.string());
+    } catch (const std::exception& e) {
+      return std::string(e.what());
+    }
+    return std::string("(no error)");
+  };
+  EXPECT_NE(message(dir / "text.lcmlog").find("not an LCM log"), std::string::npos);
+  EXPECT_NE(message(dir / "empty.lcmlog").find("empty (0 bytes)"), std::string::npos);
+  fs::remove_all(dir);
+}
+
+// tiller-log csv --fields with a name the channel does not have: exit 2, listing its fields.
+TEST(LogTool, UnknownFieldFailsAndListsTheFields) {
+  namespace fs = std::filesystem;
+  const fs::path dir = fs::temp_directory_path() / ("tiller-logcsv-" + std::to_string(::getpid()));
+  fs::create_directories(dir);
+  {
+    LogWriter w((dir / "run.lcmlog").string());
+    thruster_command_t c{};
+    c.n_thrusters = 1;
+    c.names = {"port"};
+    c.command = {0.5};
+    const auto e = ev("TILLER_THRUSTER_COMMAND", 1'000'000, c);
+    w.write(e.channel, e.data.data(), static_cast<int>(e.data.size()), e.time);
+  }
+  const std::string err = (dir / "err.txt").string();
+  const std::string base = std::string(TILLER_BIN_DIR) + "/tiller-log csv " +
+                           (dir / "run.lcmlog").string() + " TILLER_THRUSTER_COMMAND --fields ";
+  const int rc = std::system((base + "command,nosuch > /dev/null 2> " + err).c_str());
+  ASSERT_TRUE(WIFEXITED(rc));
+  EXPECT_EQ(WEXITSTATUS(rc), 2);
+  std::stringstream ss;
+  ss << std::ifstream(err).rdbuf();
+  EXPECT_NE(ss.str().find("no field \"nosuch\" in TILLER_THRUSTER_COMMAND (thruster_command_t); "
+                          "its fields: utime,"),
+            std::string::npos)
+      << ss.str();
+  EXPECT_NE(ss.str().find("command[0]"), std::string::npos) << ss.str();
+  EXPECT_EQ(std::system((base + "command > /dev/null 2>&1").c_str()), 0);
+  fs::remove_all(dir);
 }
 
 }  // namespace
