@@ -1,6 +1,37 @@
 #include "guidance/follower_config.hpp"
 
+#include <algorithm>
+#include <cmath>
+#include <filesystem>
+#include <string>
+
 namespace tiller::guidance {
+
+std::string resolve_near(const std::string& rel, const std::string& config_file) {
+  namespace fs = std::filesystem;
+  if (fs::path(rel).is_absolute() || config_file.empty()) return rel;
+  for (fs::path dir = fs::absolute(config_file).parent_path();; dir = dir.parent_path()) {
+    if (fs::exists(dir / rel)) return (dir / rel).lexically_normal().string();
+    if (dir == dir.root_path() || dir.empty()) break;
+  }
+  return rel;
+}
+
+double vehicle_braking_decel(const std::string& vehicle_file) {
+  const auto root = config::Value::load_file(vehicle_file);
+  root.mark_used();    // the mixer and the simulator check this file strictly; we read two parts
+  double reverse = 0;  // N astern, summed over the thrusters' surge components
+  for (const auto& t : root.at("thrusters").items()) {
+    const auto d = t.numbers("direction", 3);
+    const double norm = std::sqrt(d[0] * d[0] + d[1] * d[1] + d[2] * d[2]);
+    if (norm <= 0) t.at("direction").fail("a non-zero direction");
+    reverse += t.number("max_reverse_n", config::Range::at_least(0)) * std::max(0.0, d[0] / norm);
+  }
+  const config::Value m = root.at("dynamics", "the simulator's dynamics section").at("mass_matrix");
+  const double m11 = m[0].as_numbers(0)[0];
+  if (!(m11 > 0)) m.fail("a positive surge mass m11 (kg, with added mass)");
+  return reverse / m11;
+}
 
 FollowerParams load_follower_params(const config::Value& v) {
   using config::Range;
@@ -22,7 +53,27 @@ FollowerParams load_follower_params(const config::Value& v) {
                        : EndSlowdown::kConstantDecel;
   p.end_slowdown_distance = v.number("end_slowdown_distance", nonneg);
   p.end_divisor_s = v.number("end_divisor_s", pos);
-  p.braking_decel = v.number("braking_decel", {1e-3, 20});
+  if (v.has("braking_decel") && v.at("braking_decel").is_map()) {
+    const config::Value b = v.at("braking_decel");
+    const double fraction = b.number("fraction", {1e-3, 1});
+    const config::Value vf = b.at("vehicle_file", "a vehicle file (config/vehicles/*.yaml)");
+    const std::string file = resolve_near(vf.as_string(), v.file());
+    if (!std::filesystem::exists(file)) {
+      vf.fail(
+          "a vehicle file (absolute, or relative to this file's folder or one of its "
+          "parents); not found: " +
+          vf.as_string());
+    }
+    p.braking_decel = fraction * vehicle_braking_decel(file);
+    if (!(p.braking_decel >= 1e-3 && p.braking_decel <= 20)) {
+      vf.fail(
+          "a vehicle whose reverse thrust gives a braking deceleration in [0.001, 20] m/s^2 "
+          "at this fraction; got " +
+          std::to_string(p.braking_decel));
+    }
+  } else {
+    p.braking_decel = v.number("braking_decel", {1e-3, 20});
+  }
   p.heading_slowdown_angle = v.angle_deg("heading_slowdown_angle_deg", {1, 360});
   p.goal_heading_distance = v.number("goal_heading_distance", nonneg);
   p.law = v.choice("cross_track_law", {"seed", "integral"}) == "seed" ? CrossTrackLaw::kSeed

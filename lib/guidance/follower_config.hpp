@@ -3,12 +3,27 @@
 // required, ranges are checked, angles only under keys ending in _deg.
 #pragma once
 
+#include <string>
+
 #include "core/config.hpp"
 #include "guidance/path_follower.hpp"
 
 namespace tiller::guidance {
 
+// braking_decel is a number (m/s^2), or derived from the vehicle's braking ability:
+//   braking_decel: {vehicle_file: config/vehicles/otter.yaml, fraction: 0.16}
+// = fraction * (reverse thrust along the surge axis, summed over the thrusters) / m11 (the
+// surge mass with added mass, from the file's dynamics section). Drag is left out (it helps
+// more the faster the boat goes), and `fraction` is the margin: the seed's notes advise a
+// gentler deceleration than full reverse. vehicle_file: absolute, or relative to the guidance
+// file's folder or one of its parents (so config/vehicles/x.yaml works).
 FollowerParams load_follower_params(const config::Value& v);
+
+// Reverse surge thrust / m11 of a vehicle file (m/s^2): full astern, no drag.
+double vehicle_braking_decel(const std::string& vehicle_file);
+// `rel` if absolute or not found; else the first of config_file's folder and its parents
+// that holds it.
+std::string resolve_near(const std::string& rel, const std::string& config_file);
 
 // The path follower node's own settings (rates and freshness), from the same file.
 struct FollowerNodeParams {

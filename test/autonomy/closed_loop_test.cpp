@@ -18,6 +18,7 @@ namespace {
 struct Case {
   std::string name;
   std::string control;
+  std::string guidance;
   std::function<std::vector<std::unique_ptr<Node>>(const mission::Mission&, double, double)> plant;
   std::string pose_channel;
 };
@@ -25,7 +26,8 @@ struct Case {
 // The full stack (mixer + esc + simulator) on the Otter and seed 004's X and H drive boats.
 std::vector<Case> cases() {
   std::vector<Case> c;
-  for (const auto& p : plants()) c.push_back({p.name, p.control_file, p.make, p.pose_channel});
+  for (const auto& p : plants())
+    c.push_back({p.name, p.control_file, p.guidance_file, p.make, p.pose_channel});
   return c;
 }
 
@@ -34,6 +36,7 @@ TEST(ClosedLoop, WayfindingCourseCompletesWithoutMissingAWaypoint) {
     RunConfig c;
     c.mission_file = "config/missions/vrx_wayfinding.yaml";
     c.control_file = k.control;
+    c.guidance_file = k.guidance;
     c.make_plant = k.plant;
     c.pose_channel = k.pose_channel;
     const auto r = run_mission(c);
@@ -52,6 +55,7 @@ TEST(ClosedLoop, StationKeepingHolds120s) {
     RunConfig c;
     c.mission_file = "config/missions/station_keeping.yaml";
     c.control_file = k.control;
+    c.guidance_file = k.guidance;
     c.make_plant = k.plant;
     c.pose_channel = k.pose_channel;
     const auto r = run_mission(c);
@@ -69,6 +73,7 @@ TEST(ClosedLoop, RepeatedPointsAndZeroLengthSegmentsStillComplete) {
     RunConfig c;
     c.mission_file = "test/autonomy/bad_path_mission.yaml";
     c.control_file = k.control;
+    c.guidance_file = k.guidance;
     c.make_plant = k.plant;
     c.pose_channel = k.pose_channel;
     const auto r = run_mission(c);
@@ -85,6 +90,7 @@ TEST(ClosedLoop, TranslationHoldsTheHeadingWhileMoving) {
     RunConfig c;
     c.mission_file = "test/autonomy/translation_mission.yaml";
     c.control_file = plants()[v].control_file;
+    c.guidance_file = plants()[v].guidance_file;
     c.make_plant = plants()[v].make;
     c.pose_channel = plants()[v].pose_channel;
     const auto r = run_mission(c);
@@ -101,6 +107,7 @@ TEST(ClosedLoop, TranslationHoldsTheHeadingWhileMoving) {
 TEST(ClosedLoop, DefaultMissionIsShort) {
   RunConfig c;  // config/missions/default.yaml, on the Otter
   c.make_plant = plants()[0].make;
+  c.guidance_file = plants()[0].guidance_file;
   c.pose_channel = plants()[0].pose_channel;
   const auto r = run_mission(c);
   EXPECT_TRUE(r.completed);
@@ -116,6 +123,7 @@ TEST(ClosedLoop, DefaultMissionIsShort) {
 TEST(ClosedLoop, ClosedCourseLeavesTheStartAlongTheFirstLeg) {
   RunConfig c;  // config/missions/default.yaml
   c.make_plant = plants()[0].make;
+  c.guidance_file = plants()[0].guidance_file;
   c.pose_channel = plants()[0].pose_channel;
   const auto r = run_mission(c);
   ASSERT_TRUE(r.completed);
@@ -143,6 +151,7 @@ TEST(ClosedLoop, ClosedCourseLeavesTheStartAlongTheFirstLeg) {
 TEST(ClosedLoop, SameRunSameResult) {
   RunConfig c;
   c.make_plant = plants()[1].make;
+  c.guidance_file = plants()[1].guidance_file;
   c.pose_channel = plants()[1].pose_channel;
   const auto a = run_mission(c), b = run_mission(c);
   ASSERT_EQ(a.poses.size(), b.poses.size());
@@ -171,7 +180,7 @@ TEST(ClosedLoop, StandInPlantCompletesTheDefaultMission) {
 TEST(ClosedLoop, VelocityPidStepResponse) {
   auto all = cases();
   const auto& s = standin_plant();
-  all.push_back({s.name, s.control_file, s.make, s.pose_channel});
+  all.push_back({s.name, s.control_file, s.guidance_file, s.make, s.pose_channel});
   for (const auto& k : all) {
     SCOPED_TRACE(k.name);
     mission::Mission m;

@@ -1,8 +1,8 @@
 // Missions benchmark: runs the shipped missions in lockstep with the seed-faithful follower
 // settings (config/guidance/seed.yaml: linear end slow-down, no integral) beside Tiller's
-// defaults (config/guidance/default.yaml) and a variant that differs from the defaults only in
-// the end slow-down (linear), prints a table of scores, then measures the closed loop's speed
-// in multiples of real time with Google Benchmark.
+// defaults (config/guidance/<vehicle>.yaml: default.yaml with the vehicle's braking) and a variant
+// that differs from the defaults only in the end slow-down (linear), prints a table of scores, then
+// measures the closed loop's speed in multiples of real time with Google Benchmark.
 #include <benchmark/benchmark.h>
 
 #include <cstdio>
@@ -23,15 +23,15 @@ struct Variant {
 };
 const Variant kVariants[] = {
     {"seed", "config/guidance/seed.yaml", false},
-    {"tiller-linear-end", "config/guidance/default.yaml", true},
-    {"tiller", "config/guidance/default.yaml", false},
+    {"tiller-linear-end", nullptr, true},  // nullptr: the vehicle's config/guidance/<vehicle>.yaml
+    {"tiller", nullptr, false},
 };
 const char* kMissions[] = {"default", "vrx_wayfinding", "station_keeping"};
 
 RunConfig make(const PlantSpec& v, const char* mission, const Variant& var) {
   RunConfig c;
   c.mission_file = std::string("config/missions/") + mission + ".yaml";
-  c.guidance_file = var.guidance;
+  c.guidance_file = var.guidance ? var.guidance : v.guidance_file;
   c.control_file = v.control_file;
   c.make_plant = v.make;
   c.pose_channel = v.pose_channel;

@@ -60,7 +60,7 @@ ModeRun run_modes(const std::string& vehicle_name) {
   m.start = mission::MissionPoint{0, 0, true, 0};
   m.waypoints = {{0, 0, false, 0}, {200, 0, false, 0}, {200, 100, false, 0}};
   auto plant = spec->make(m, 0.3, deg_to_rad(30));
-  const auto groot = config::Value::load_file(source_path("config/guidance/default.yaml"));
+  const auto groot = config::Value::load_file(source_path(spec->guidance_file));
   guidance::PathFollowerNode follower(guidance::load_follower_node_params(groot));
   const auto croot = source_path(spec->control_file);
   control::VelocityPidNode vpid(

@@ -35,8 +35,8 @@ std::vector<std::unique_ptr<Node>> full_stack(const std::string& vehicle, const 
 }
 
 PlantSpec full(const std::string& vehicle) {
-  return {vehicle, "config/control/" + vehicle + ".yaml", "TILLER_GROUND_TRUTH",
-          [vehicle](const mission::Mission& m, double speed, double from) {
+  return {vehicle, "config/control/" + vehicle + ".yaml", "config/guidance/" + vehicle + ".yaml",
+          "TILLER_GROUND_TRUTH", [vehicle](const mission::Mission& m, double speed, double from) {
             return full_stack(vehicle, m, speed, from);
           }};
 }
@@ -56,7 +56,7 @@ const std::vector<PlantSpec>& plants() {
 
 const PlantSpec& standin_plant() {
   static const PlantSpec p{
-      "otter-standin", "config/control/otter.yaml", "TILLER_ODOMETRY",
+      "otter-standin", "config/control/otter.yaml", "config/guidance/otter.yaml", "TILLER_ODOMETRY",
       [](const mission::Mission& m, double speed, double from) {
         std::vector<std::unique_ptr<Node>> n;
         const auto s = m.start.value_or(mission::MissionPoint{});

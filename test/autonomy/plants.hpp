@@ -16,6 +16,7 @@ namespace tiller::test {
 struct PlantSpec {
   std::string name;
   std::string control_file;
+  std::string guidance_file;  // Tiller's defaults with this vehicle's braking deceleration
   std::string pose_channel;
   std::function<std::vector<std::unique_ptr<Node>>(const mission::Mission&, double, double)> make;
 };

@@ -18,6 +18,7 @@ int main(int argc, char** argv) {
       c.make_plant = p.make;
       c.pose_channel = p.pose_channel;
       if (argc <= 3) c.control_file = p.control_file;
+      if (argc <= 2) c.guidance_file = p.guidance_file;
     }
   }
   const auto r = tiller::test::run_mission(c);

@@ -2,6 +2,9 @@
 #include <gtest/gtest.h>
 
 #include <cmath>
+#include <cstring>
+#include <fstream>
+#include <iterator>
 
 #include "core/config.hpp"
 #include "guidance/follower_config.hpp"
@@ -348,6 +351,94 @@ TEST(FollowerConfig, LoadsTheShippedFilesStrictly) {
   } catch (const config::Error& e) {
     EXPECT_NE(std::string(e.what()).find("bad.yaml"), std::string::npos);
     EXPECT_NE(std::string(e.what()).find("acceptance_radius"), std::string::npos);
+  }
+}
+
+// The per-vehicle guidance files are default.yaml with the braking deceleration derived from
+// the vehicle's braking ability: 16 % of (reverse surge thrust / surge mass with added mass).
+TEST(FollowerConfig, PerVehicleFilesDeriveTheBrakingFromTheVehicle) {
+  const std::string src = TILLER_SOURCE_DIR;
+  const auto def =
+      load_follower_node_params(config::Value::load_file(src + "/config/guidance/default.yaml"));
+  struct V {
+    const char* name;
+    double reverse_n, m11;
+  };
+  const V vehicles[] = {{"otter", 2 * 66.7, 85.5},                           // two propellers
+                        {"seed004_usv_x", 4 * 100.0 * std::sqrt(0.5), 180},  // 4 at 45 deg
+                        {"seed004_usv_h", 4 * 100.0, 180}};                  // side pair: no surge
+  for (const auto& v : vehicles) {
+    SCOPED_TRACE(v.name);
+    const auto root =
+        config::Value::load_file(src + "/config/guidance/" + std::string(v.name) + ".yaml");
+    const auto p = load_follower_node_params(root);
+    EXPECT_NO_THROW(root.check_all_used());
+    EXPECT_NEAR(vehicle_braking_decel(src + "/config/vehicles/" + v.name + ".yaml"),
+                v.reverse_n / v.m11, 1e-9);
+    EXPECT_NEAR(p.follower.braking_decel, 0.16 * v.reverse_n / v.m11, 1e-9);
+    // Everything else as default.yaml.
+    auto q = p;
+    q.follower.braking_decel = def.follower.braking_decel;
+    const auto& a = q.follower;
+    const auto& b = def.follower;
+    const double av[] = {a.max_speed,
+                         a.acceptance_radius,
+                         a.corner_cut_radius,
+                         a.min_segment_length,
+                         a.approach_max_speed,
+                         a.approach_divisor_s,
+                         a.parallel_cutoff_distance,
+                         a.turn_slowdown_distance,
+                         a.turn_reduction,
+                         a.turn_min_fraction,
+                         a.end_slowdown_distance,
+                         a.end_divisor_s,
+                         a.braking_decel,
+                         a.heading_slowdown_angle,
+                         a.goal_heading_distance,
+                         a.integral_gain,
+                         a.integral_limit,
+                         a.integral_zone};
+    const double bv[] = {b.max_speed,
+                         b.acceptance_radius,
+                         b.corner_cut_radius,
+                         b.min_segment_length,
+                         b.approach_max_speed,
+                         b.approach_divisor_s,
+                         b.parallel_cutoff_distance,
+                         b.turn_slowdown_distance,
+                         b.turn_reduction,
+                         b.turn_min_fraction,
+                         b.end_slowdown_distance,
+                         b.end_divisor_s,
+                         b.braking_decel,
+                         b.heading_slowdown_angle,
+                         b.goal_heading_distance,
+                         b.integral_gain,
+                         b.integral_limit,
+                         b.integral_zone};
+    for (std::size_t k = 0; k < std::size(av); ++k) EXPECT_EQ(av[k], bv[k]) << "field " << k;
+    EXPECT_EQ(a.end_slowdown, b.end_slowdown);
+    EXPECT_EQ(a.law, b.law);
+    EXPECT_EQ(q.rate_hz, def.rate_hz);
+    EXPECT_EQ(q.odometry_timeout_s, def.odometry_timeout_s);
+  }
+  // A missing vehicle file names the key and the file.
+  std::ifstream in(src + "/config/guidance/otter.yaml");
+  std::string text((std::istreambuf_iterator<char>(in)), std::istreambuf_iterator<char>());
+  const auto at = text.rfind("config/vehicles/otter.yaml");  // the key, not the header
+  ASSERT_NE(at, std::string::npos);
+  text.replace(at, std::strlen("config/vehicles/otter.yaml"), "config/vehicles/nope.yaml");
+  const auto bad = config::Value::parse(text, src + "/config/guidance/g.yaml");
+  try {
+    load_follower_node_params(bad);
+    FAIL() << "expected an error";
+  } catch (const std::exception& e) {
+    EXPECT_NE(std::string(e.what()).find("g.yaml"), std::string::npos) << e.what();
+    EXPECT_NE(std::string(e.what()).find("braking_decel.vehicle_file"), std::string::npos)
+        << e.what();
+    EXPECT_NE(std::string(e.what()).find("not found: config/vehicles/nope.yaml"), std::string::npos)
+        << e.what();
   }
 }
 
