@@ -24,6 +24,12 @@ bool ends_with(const std::string& s, const std::string& suffix) {
 std::string log_stem(const std::string& path) {
   std::string s = path;
   if (ends_with(s, ".gz")) s.resize(s.size() - 3);
+  // A part of a split or rotated log (run.lcmlog.00, run.lcmlog.0): the run's stem.
+  const auto dot = s.rfind('.');
+  if (dot != std::string::npos && dot + 1 < s.size() &&
+      s.find_first_not_of("0123456789", dot + 1) == std::string::npos &&
+      ends_with(s.substr(0, dot), ".lcmlog"))
+    s.resize(dot);
   if (ends_with(s, ".lcmlog")) s.resize(s.size() - 7);
   return s;
 }
