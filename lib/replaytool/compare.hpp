@@ -1,11 +1,13 @@
 // Log replay regression: runs one process's node on the inputs recorded in a log (the
-// foundation's ReplayExecutor, recorded times) and compares what it publishes today with what
+// foundation's ReplayExecutor for lockstep logs; for live logs a loop that runs each tick where
+// the recording shows the live process ran it) and compares what it publishes today with what
 // it published when the log was recorded, channel by channel and field by field (fields
 // decoded from the .lcm definitions, logtools/lcm_schema.hpp). Without a time tolerance the
 // i-th recorded message of a channel is compared with the i-th replayed one (lockstep logs,
-// bit for bit); with one (live logs), each recorded message with the replayed one nearest in
-// time. Then every field: numbers within an absolute tolerance (*utime fields within the time
-// tolerance), text exactly. Times in us.
+// bit for bit); with one (live logs), messages are matched in order, each recorded one with the
+// next replayed one within the time tolerance (missing and extra ones counted), and a channel
+// passes when Tolerance::live_match of its messages match. Then every field: numbers within
+// abs + rel x |old| (*utime fields within the time tolerance), text exactly. Times in us.
 #pragma once
 
 #include <functional>
