@@ -31,8 +31,8 @@ echo "$rout" | grep -E "^[a-z]|summary|DIFFERENT"
 for p in esc mixer path-follower velocity-pid station-keep sim; do
   echo "$rout" | grep -q "^$p (config /" || { echo "FAIL: $p was not replayed"; fail=1; }
 done
-sed 's/^  max_speed: 1.5 /  max_speed: 1.6 /' "$src/config/guidance/default.yaml" > "$tmp/guidance_changed.yaml"
-cmp -s "$src/config/guidance/default.yaml" "$tmp/guidance_changed.yaml" && { echo "FAIL: could not change max_speed (config changed?)"; fail=1; }
+sed -e 's/^  max_speed: 1.5 /  max_speed: 1.6 /' -e "s|vehicle_file: config/|vehicle_file: $src/config/|" "$src/config/guidance/otter.yaml" > "$tmp/guidance_changed.yaml"
+cmp -s "$src/config/guidance/otter.yaml" "$tmp/guidance_changed.yaml" && { echo "FAIL: could not change max_speed (config changed?)"; fail=1; }
 rout=$(cd /tmp && "$build/bin/tiller-replay" "$log" --process path-follower --config "$tmp/guidance_changed.yaml" 2>&1); rrc=$?
 echo "$rout" | grep -E "DIFFERENT|first difference|^tiller-replay"
 [ $rrc -eq 1 ] || { echo "FAIL: a changed gain gave exit $rrc, expected 1 (FAIL)"; fail=1; }
