@@ -1,6 +1,8 @@
 // Replay regression machinery on a toy gain node (independent of the real stack): a replay of
 // a lockstep log through the same node matches bit for bit; a changed gain is reported with
-// the first differing field, its time and old/new values; tolerance and count differences.
+// the first differing field, its time and old/new values; tolerance and count differences; a
+// live-like log replays with ticks where the recording ran them (a fixed grid does not match),
+// extra replayed messages are counted, integrating processes are not in a live verdict.
 // And tiller-plot draws a synthetic run into a 1600x1200 PNG with gnuplot.
 #include <gtest/gtest.h>
 
@@ -120,6 +122,71 @@ TEST(Replay, CountAndTimeDifferences) {
   r = compare_channel("W", old_w, new_w, {});
   EXPECT_EQ(r.first->field, "time");
   EXPECT_TRUE(compare_channel("W", old_w, new_w, Tolerance{0, 1000}).ok());
+}
+
+// A live-like log made from a lockstep one (tick T sees the inputs before T): lcm-logger sees
+// each tick's outputs 400 us after its grid time; an input stamped exactly at a grid point
+// (which the tick did not see) 500 us after it, after that tick's outputs; and the odometry of
+// 40 ms (seen by the 50 ms tick) late, at 50.2 ms, yet before that tick's outputs at 50.4 ms (the
+// live node had it in time). The live replay runs each tick where the recording shows it ran:
+// the same code matches every message; a fixed-grid replay, or a changed gain, does not.
+std::vector<Event> live_like(double gain) {
+  auto log = record(gain);
+  for (auto& e : log) {
+    if (e.channel != channels::kOdometry)
+      e.time += 400;
+    else if (e.time == 40'000)
+      e.time = 50'200;
+    else if (e.time % 50'000 == 0)
+      e.time += 500;
+  }
+  std::stable_sort(log.begin(), log.end(),
+                   [](const Event& a, const Event& b) { return a.time < b.time; });
+  return log;
+}
+
+TEST(Replay, LiveLogTicksWhereTheRecordingRanThem) {
+  ReplayOptions o;
+  o.live = true;
+  const Tolerance tol{0, 20'000};
+  auto rep = replay_process(gain_entry(), "2.0", live_like(2.0), tol, o);
+  EXPECT_TRUE(rep.ok()) << format_report(rep);
+  ASSERT_EQ(rep.channels.size(), 1u);  // heartbeats are not compared in a live replay
+  EXPECT_EQ(rep.channels[0].matching, 27u) << format_report(rep);
+  EXPECT_EQ(rep.channels[0].unmatched_replayed, 0u);
+  EXPECT_EQ(rep.aligned_ticks, rep.ticks);
+  EXPECT_EQ(rep.ticks, 27u);
+  // The fixed-grid executor would run the 250 ms tick before the late odometry: a difference.
+  ReplayOptions grid;
+  EXPECT_FALSE(replay_process(gain_entry(), "2.0", live_like(2.0), tol, grid).ok());
+  // A changed gain fails the live replay, even with live_match 0.5 (26 of 27 messages differ).
+  Tolerance half = tol;
+  half.live_match = 0.5;
+  rep = replay_process(gain_entry(), "2.5", live_like(2.0), half, o);
+  EXPECT_FALSE(rep.ok()) << format_report(rep);
+  EXPECT_EQ(rep.channels[0].differing, 26u);
+  // An integrating process is reported but not in the verdict.
+  auto integ = gain_entry();
+  integ.integrating = true;
+  rep = replay_process(integ, "2.5", live_like(2.0), half, o);
+  EXPECT_TRUE(rep.ok());
+  EXPECT_NE(format_report(rep).find("not in the verdict"), std::string::npos);
+}
+
+// In-order time matching counts extra replayed messages; live_match tolerates a fraction.
+TEST(Replay, ExtraReplayedMessagesAreCounted) {
+  auto log = record(2.0);
+  std::vector<Event> old_w, new_w;
+  for (const auto& e : log)
+    if (e.channel == channels::kWrenchVelocity) old_w.push_back(e);
+  new_w = old_w;
+  new_w.insert(new_w.begin() + 5, new_w[5]);  // one extra, at the same time
+  new_w[6].time += 1;
+  auto r = compare_channel("W", old_w, new_w, Tolerance{0, 1000});
+  EXPECT_EQ(r.unmatched_replayed, 1u);
+  EXPECT_EQ(r.matching, 27u);
+  EXPECT_FALSE(r.ok());
+  EXPECT_TRUE(compare_channel("W", old_w, new_w, Tolerance{0, 1000, 0, 0.9}).ok());
 }
 
 TEST(Plot, DrawsASyntheticRunToPng) {
