@@ -156,7 +156,49 @@ Allocator::Allocator(const Vehicle& vehicle)
         glo[k] = lo_[static_cast<std::size_t>(g.idx[k])];
         ghi[k] = hi_[static_cast<std::size_t>(g.idx[k])];
       }
-      g.lp = make_lp(rows_cols(b_full_, g.axes, g.idx), glo, ghi);
+      const Eigen::MatrixXd bg = rows_cols(b_full_, g.axes, g.idx);
+      g.lp = make_lp(bg, glo, ghi);
+      // Facets of the zonotope: normals orthogonal to m - 1 independent generators.
+      const int m = static_cast<int>(g.axes.size()), ng = static_cast<int>(g.idx.size());
+      double count = 1;  // C(ng, m - 1)
+      for (int k = 0; k < m - 1; ++k) count = count * (ng - k) / (k + 1);
+      if (2 * count <= static_cast<double>(kMaxFacets)) {
+        std::vector<int> pick(static_cast<std::size_t>(std::max(m - 1, 0)));
+        auto add = [&](const Eigen::VectorXd& nrm) {
+          for (double sgn : {1.0, -1.0}) {
+            std::array<double, 7> fct{};
+            double h = 0;
+            for (int j = 0; j < ng; ++j) {
+              const double p = sgn * nrm.dot(bg.col(j));
+              h += std::max(p * glo[static_cast<std::size_t>(j)],
+                            p * ghi[static_cast<std::size_t>(j)]);
+            }
+            for (int r = 0; r < m; ++r) fct[static_cast<std::size_t>(r)] = sgn * nrm(r);
+            fct[6] = h;
+            g.facets.push_back(fct);
+          }
+        };
+        if (m == 1) {
+          add(Eigen::VectorXd::Ones(1));
+        } else {
+          // Every (m - 1)-subset of the generators, in lexicographic order.
+          for (int k = 0; k < m - 1; ++k) pick[static_cast<std::size_t>(k)] = k;
+          while (true) {
+            Eigen::MatrixXd sub(m - 1, m);
+            for (int k = 0; k < m - 1; ++k)
+              sub.row(k) = bg.col(pick[static_cast<std::size_t>(k)]).transpose();
+            Eigen::FullPivLU<Eigen::MatrixXd> lu(sub);
+            lu.setThreshold(1e-9);
+            if (lu.rank() == m - 1) add(lu.kernel().col(0).normalized());
+            int k = m - 2;
+            while (k >= 0 && pick[static_cast<std::size_t>(k)] == ng - (m - 1) + k) --k;
+            if (k < 0) break;
+            ++pick[static_cast<std::size_t>(k)];
+            for (int q = k + 1; q < m - 1; ++q)
+              pick[static_cast<std::size_t>(q)] = pick[static_cast<std::size_t>(q - 1)] + 1;
+          }
+        }
+      }
     }
     for (const auto& level : vehicle.allocation.priority) {
       std::vector<int> pos;
@@ -435,6 +477,43 @@ double Allocator::lp_max_scale(const Lp& lp, const ThrustVec& f0, const Small& d
   return std::min(cap, x[mu] / dn);
 }
 
+Allocator::Small Allocator::group_wrench(const Group& g, const ThrustVec& fg) {
+  const auto na = static_cast<Eigen::Index>(g.axes.size());
+  Small w = Small::Zero(na);
+  for (Eigen::Index r = 0; r < na; ++r)
+    for (std::size_t k = 0; k < g.idx.size(); ++k)
+      w(r) += g.rows(r, g.idx[k]) * fg(static_cast<Eigen::Index>(k));
+  return w;
+}
+
+double Allocator::facet_max_scale(const Group& g, const Small& c, const Small& d) {
+  const auto m = static_cast<int>(g.axes.size());
+  double cc[6], dd[6], dmax = 0;
+  for (int r = 0; r < m; ++r) {
+    cc[r] = c(r);
+    dd[r] = d(r);
+    dmax = std::max(dmax, std::abs(dd[r]));
+  }
+  const double tiny = 1e-12 * dmax;
+  // min over facets with n.d > 0 of (h - n.c) / (n.d), kept as a fraction num / den (den > 0)
+  // so that only one division is made.
+  double num = 1, den = 0;
+  for (const auto& f : g.facets) {
+    double nd = 0, nc = 0;
+    for (int r = 0; r < m; ++r) {
+      nd += f[static_cast<std::size_t>(r)] * dd[r];
+      nc += f[static_cast<std::size_t>(r)] * cc[r];
+    }
+    const double h = f[6] - nc;
+    if (nd > tiny && (den == 0 || h * den < num * nd)) {
+      num = h;
+      den = nd;
+    }
+  }
+  if (den == 0) return kInf;
+  return std::max(num / den, 0.0);
+}
+
 bool Allocator::feasible_start(const Group& g, const ThrustVec& b, ThrustVec& f0) const {
   f0 = b;
   bool fits = true;
@@ -529,7 +608,18 @@ bool Allocator::allocate(const Wrench& tau, AllocationResult& out) const {
       case Strategy::kDirectionPreserving: {
         const ThrustVec a = g.pinv * target;
         ThrustVec f0;
-        if (g.null_dim > 0 && max_scale(g, a, b) < 1.0 && feasible_start(g, b, f0)) {
+        const double mu_mn = max_scale(g, a, b);
+        if (g.null_dim > 0 && mu_mn < 1.0 && mu_mn >= 0 && !g.facets.empty()) {
+          // The zonotope's facets give the true largest scale at once; when the minimum-norm
+          // pattern already reaches it (symmetric layouts), that is the answer, no LP.
+          const double mu_f = std::min(1.0, facet_max_scale(g, -comp, target));
+          if (mu_mn >= mu_f * (1 - 1e-12)) {
+            fg = mu_mn * a + b;
+            out.scale = std::min(out.scale, mu_mn);
+            break;
+          }
+        }
+        if (g.null_dim > 0 && mu_mn < 1.0 && feasible_start(g, b, f0)) {
           // Spare thrusters: the largest scale over the whole null space, not only along the
           // minimum-norm pattern; then the point nearest the minimum-norm one on the way there.
           double mu = lp_max_scale(g.lp, f0, target, 1.0, fg);
@@ -584,6 +674,11 @@ bool Allocator::allocate(const Wrench& tau, AllocationResult& out) const {
               if (max_scale(g, v, fg) >= 1.0) {  // fits along the minimum-norm pattern
                 alpha = 1.0;
                 fv = fg + v;
+              } else if (pass > 0 && !g.facets.empty() &&
+                         facet_max_scale(g, got - comp, part) <= 1e-12) {
+                // Solved again after other levels moved, and the facets say there is still no
+                // room along this level (B fg = got - comp): no LP.
+                alpha = 0.0;
               } else {
                 alpha = lp_max_scale(g.lp, fg, part, 1.0, fv);
                 if (alpha > 1.0 - 1e-12) alpha = 1.0;
@@ -681,7 +776,20 @@ bool Allocator::allocate_manual(const Wrench& stick, AllocationResult& out) cons
       const ThrustVec a = g.pinv * d;
       double mu = max_scale(g, a, b);
       ThrustVec f0, fv;
-      if (g.null_dim > 0 && feasible_start(g, b, f0)) {
+      bool done = false;
+      if (g.null_dim > 0 && mu >= 0 && !g.facets.empty()) {
+        // Fast path: the largest along d from the zonotope's facets; the stick's fraction of it
+        // along the minimum-norm pattern, when that fits.
+        const double mu_f = facet_max_scale(g, -comp, d);
+        if (std::isfinite(mu_f) && (m * mu_f) <= mu * (1 + 1e-12)) {
+          mu = mu_f;
+          fg = (m * mu) * a + b;
+          clamp_group(g, fg);  // rounding only: m * mu_f is within the pattern's own reach
+          done = true;
+        }
+      }
+      if (done) {
+      } else if (g.null_dim > 0 && feasible_start(g, b, f0)) {
         // Spare thrusters: the largest achievable along d over the whole null space (mu), then
         // the stick's fraction m of it: the minimum-norm point when it fits, else the nearest
         // to it on the way to m * (optimum) + (1 - m) * (start), which solves the same.

@@ -132,7 +132,16 @@ class Allocator {
     std::vector<std::vector<int>> levels;  // prioritised: positions into `axes`, by level
     int null_dim = 0;  // idx.size() - axes.size(): spare thrusters (0: the pseudo-inverse is all)
     Lp lp;             // over B[axes, idx], used only when null_dim > 0
+    // The attainable set {B[axes, idx] f : lo <= f <= hi} is a zonotope; its facets (unit
+    // normal n, support h: n . w <= h), when there are at most kMaxFacets, give the largest
+    // scale along any ray without the LP (the LP then only finds the thrust).
+    std::vector<std::array<double, 7>> facets;  // n[0..m-1], h at [6]
   };
+  static constexpr std::size_t kMaxFacets = 128;
+  // Largest mu >= 0 with c + mu d in group g's zonotope (c inside); +inf if d is 0. Only with
+  // facets.
+  static double facet_max_scale(const Group& g, const Small& c, const Small& d);
+  static Small group_wrench(const Group& g, const ThrustVec& fg);  // B[axes, idx] * fg
 
   // Max mu >= 0 with lo <= mu*a + b <= hi over group g; -1 if mu = 0 is infeasible;
   // +inf if unbounded.

@@ -108,6 +108,12 @@ TEST(Seed000, TwoConditionsHoldForEveryLayout) {
         for (int i = 0; i < a.size(); ++i)
           limit = limit || edge.saturated[static_cast<std::size_t>(i)];
         EXPECT_TRUE(limit);
+        // |F|max is the true largest along that direction (spare thrusters included), computed
+        // without the allocator.
+        Wrench dw = Wrench::Zero();
+        for (std::size_t k = 0; k < axes.size(); ++k) dw(axes[k]) = d(static_cast<Eigen::Index>(k));
+        const double best = test::brute_max_scale(v, a.unactuated(), dw);
+        EXPECT_NEAR(got_edge.norm(), best * d.norm(), 1e-9 * (1 + got_edge.norm()));
       }
     }
   }
