@@ -32,11 +32,14 @@
 //   and, per level, the prioritised allocation.
 //   clip                  unconstrained solution clipped per thruster (for comparison only).
 // Explicit-matrix vehicles (seed tables): s = M * tau_norm with tau_norm_j = tau_j /
-// full_scale_j (full_scale: the wrench one unit of axis j gives, from the geometry); thrust_i =
-// s_i * thrust_max_i (so with equal, symmetric thrusters s is the seed's command); ratio-keeping
-// normalisation per group: when some thrust is beyond its limit, the group's thrusts are all
-// divided by the same factor (never scaled up). The achieved wrench is still B * thrust from
-// the geometry, so a table that does not match the hull shows in the status.
+// full_scale_j (full_scale: the wrench one unit of axis j gives, from the geometry). units:
+// command -> s is the thruster command, sent as it is (seeds 001 and 004), thrust = curve(s);
+// units: thrust_fraction -> thrust_i = s_i * max_forward_n_i. Ratio-keeping normalisation per
+// group (the file's `group`s): normalise: above_one -> when some value is beyond its limit
+// (command magnitude 1, or the thruster's own thrust limit) all of the group's are divided by
+// the same factor; normalise: always -> the group's largest magnitude is made exactly 1 (a
+// scale-up leaves `scale` at 1). The achieved wrench is still B * thrust from the geometry, so
+// a table that does not match the hull shows in the status.
 // Manual open-loop demand (allocate_manual): seed 000's two conditions, per group: the achieved
 // wrench on the group's axes points along the stick vector J (each axis weighted by its own
 // largest achievable value in that sign), and its size over the largest achievable in that
