@@ -21,6 +21,7 @@
 #include <iostream>
 #include <limits>
 #include <map>
+#include <set>
 
 #include "core/config.hpp"
 #include "logtools/log_io.hpp"
@@ -236,6 +237,21 @@ int main(int argc, char** argv) {
           if (!ran) continue;
         }
         plan.push_back(Planned{&e, e.default_config, {}});
+      }
+      // Processes that ran (their heartbeat is in the log) but cannot be replayed: say so.
+      if (which == "all") {
+        std::set<std::string> hbs;
+        for (const auto& ev : log)
+          if (ev.channel.rfind(channels::kHeartbeatPrefix, 0) == 0) hbs.insert(ev.channel);
+        for (const auto& hb : hbs) {
+          bool known = false;
+          for (const auto& e : entries) known = known || heartbeat_channel_of(e.name) == hb;
+          if (known) continue;
+          std::string name = hb.substr(std::string(channels::kHeartbeatPrefix).size());
+          for (char& c : name)
+            c = c == '_' ? '-' : static_cast<char>(std::tolower(static_cast<unsigned char>(c)));
+          skipped.push_back(name + " (its heartbeat is in the log: not a replayable process)");
+        }
       }
     }
     if (explicit_option(argc, argv, "config")) {
