@@ -290,6 +290,9 @@ std::string Allocator::describe() const {
     for (int i : g.idx) os << ' ' << vehicle_.thrusters[static_cast<std::size_t>(i)].name;
     os << " ] owns";
     for (int ax : g.axes) os << ' ' << kAxisNames[static_cast<std::size_t>(ax)];
+    if (g.null_dim > 0 && !matrix_)
+      os << ", " << g.null_dim << " spare (null space, used under saturation; " << g.facets.size()
+         << " facets)";
   }
   return os.str();
 }
