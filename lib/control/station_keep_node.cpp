@@ -5,8 +5,10 @@
 #include <tiller/pid_terms_t.hpp>
 
 #include <cmath>
+#include <string_view>
 
 #include "core/checks.hpp"
+#include "core/message_checks.hpp"
 #include "runtime/channels.hpp"
 
 namespace tiller::control {
@@ -49,9 +51,19 @@ StationKeepNode::StationKeepNode(const StationKeepNodeParams& p)
   set_health(heartbeat_t::STATE_OK, "starting");
 }
 
+std::int64_t& StationKeepNode::first_use(std::int64_t*& c, const char* name) {
+  // Made on the first rejection, so the heartbeat of a run with good input is unchanged.
+  if (c == nullptr) c = &counter(name);
+  return *c;
+}
+
 void StationKeepNode::on_odometry(const odometry_t& m, TimeUs now) {
-  if (!all_finite(m.position) || !all_finite(m.orientation) || !all_finite(m.velocity)) {
-    reject(*nan_odometry_);
+  // The whole message against its contract (core/message_checks.hpp): non-finite values count
+  // under rejected.odometry.nan, the rest (angles out of range, covariance size) under .range.
+  if (const char* why = checks::check(m)) {
+    reject(std::string_view(why).ends_with(".nan")
+               ? *nan_odometry_
+               : first_use(range_odometry_, "rejected.odometry.range"));
     return;
   }
   odom_ = m;
@@ -59,7 +71,9 @@ void StationKeepNode::on_odometry(const odometry_t& m, TimeUs now) {
 }
 
 void StationKeepNode::on_target(const station_target_t& m, TimeUs now) {
-  if (m.active && (!all_in_range(m.position, -1e6, 1e6) || !std::isfinite(m.heading))) {
+  // An active target must meet its contract (core/message_checks.hpp: heading, when valid, in
+  // (-pi, pi]) and lie within 1e6 m; an inactive one only cancels, its fields are not used.
+  if (m.active && (!all_in_range(m.position, -1e6, 1e6) || checks::check(m) != nullptr)) {
     reject(*bad_target_);
     return;
   }
@@ -69,11 +83,19 @@ void StationKeepNode::on_target(const station_target_t& m, TimeUs now) {
 }
 
 void StationKeepNode::on_arbitration(const arbitration_t& m, TimeUs now) {
+  if (checks::check(m) != nullptr) {  // unknown mode or source
+    reject(first_use(bad_arbitration_, "rejected.arbitration.invalid"));
+    return;
+  }
   arb_ = m;
   arb_fresh_.mark(now);
 }
 
 void StationKeepNode::on_allocation(const allocation_status_t& m, TimeUs now) {
+  if (checks::check(m) != nullptr) {  // unknown source, NaN, scale outside [0, 1], ...
+    reject(first_use(bad_allocation_, "rejected.allocation.invalid"));
+    return;
+  }
   alloc_ = m;
   alloc_fresh_.mark(now);
 }

@@ -8,6 +8,12 @@
 // wrench over blend_s, so the hand-over has no thrust step). A target without a heading holds the
 // heading the vehicle has when the target first becomes active. Odometry stale: neutral, or the
 // last wrench for hold_s, per config.
+// Bad input (core/message_checks.hpp) is dropped and counted: odometry with non-finite values
+// (rejected.odometry.nan) or angles / covariance size out of contract (rejected.odometry.range);
+// an active target with NaN, a position beyond 1e6 m or a valid heading outside (-pi, pi]
+// (rejected.target.invalid); an arbitration with an unknown mode or source
+// (rejected.arbitration.invalid); an allocation status out of contract
+// (rejected.allocation.invalid); a velocity-PID wrench with NaN (rejected.wrench_velocity.nan).
 #pragma once
 
 #include <tiller/allocation_status_t.hpp>
@@ -38,6 +44,8 @@ class StationKeepNode : public Node {
   bool active() const { return active_; }
 
  private:
+  // A counter made on first use (a rejection), so good input leaves the heartbeat as it was.
+  std::int64_t& first_use(std::int64_t*& c, const char* name);
   void publish_wrench(TimeUs now, bool valid, double x, double y, double n);
 
   StationKeepNodeParams p_;
@@ -59,6 +67,8 @@ class StationKeepNode : public Node {
   Blend blend_;
   bool was_active_ = false;
   std::int64_t *nan_odometry_, *bad_target_, *bad_velocity_wrench_;
+  std::int64_t *range_odometry_ = nullptr, *bad_arbitration_ = nullptr,  // made on first use
+                                               *bad_allocation_ = nullptr;
 };
 
 }  // namespace tiller::control

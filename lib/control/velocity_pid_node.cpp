@@ -4,8 +4,10 @@
 #include <tiller/pid_terms_t.hpp>
 
 #include <cmath>
+#include <string_view>
 
 #include "core/checks.hpp"
+#include "core/message_checks.hpp"
 #include "runtime/channels.hpp"
 
 namespace tiller::control {
@@ -55,9 +57,19 @@ VelocityPidNode::VelocityPidNode(const VelocityPidNodeParams& p)
   set_health(heartbeat_t::STATE_OK, "starting");
 }
 
+std::int64_t& VelocityPidNode::first_use(std::int64_t*& c, const char* name) {
+  // Made on the first rejection, so the heartbeat of a run with good input is unchanged.
+  if (c == nullptr) c = &counter(name);
+  return *c;
+}
+
 void VelocityPidNode::on_odometry(const odometry_t& m, TimeUs now) {
-  if (!all_finite(m.position) || !all_finite(m.orientation) || !all_finite(m.velocity)) {
-    reject(*nan_odometry_);
+  // The whole message against its contract (core/message_checks.hpp): non-finite values count
+  // under rejected.odometry.nan, the rest (angles out of range, covariance size) under .range.
+  if (const char* why = checks::check(m)) {
+    reject(std::string_view(why).ends_with(".nan")
+               ? *nan_odometry_
+               : first_use(range_odometry_, "rejected.odometry.range"));
     return;
   }
   odom_ = m;
@@ -65,8 +77,9 @@ void VelocityPidNode::on_odometry(const odometry_t& m, TimeUs now) {
 }
 
 void VelocityPidNode::on_setpoint(const velocity_setpoint_t& m, TimeUs now) {
-  if (!all_in_range(m.velocity, -10, 10) || !std::isfinite(m.target_heading) ||
-      (m.frame != velocity_setpoint_t::FRAME_NED && m.frame != velocity_setpoint_t::FRAME_BODY)) {
+  // Its contract (core/message_checks.hpp): a known frame, velocities within 10 m/s, the heading
+  // finite and, when valid, in (-pi, pi].
+  if (checks::check(m) != nullptr) {
     reject(*bad_setpoint_);
     return;
   }
@@ -104,6 +117,10 @@ void VelocityPidNode::on_progress(const path_progress_t& m, TimeUs now) {
 }
 
 void VelocityPidNode::on_allocation(const allocation_status_t& m, TimeUs now) {
+  if (checks::check(m) != nullptr) {  // unknown source, NaN, scale outside [0, 1], ...
+    reject(first_use(bad_allocation_, "rejected.allocation.invalid"));
+    return;
+  }
   alloc_ = m;
   alloc_fresh_.mark(now);
 }

@@ -10,6 +10,12 @@
 // open-loop stick, so the hand-over has no thrust step), with dt from the odometry times, frozen
 // while the mixer reports the axis reduced. No fresh setpoint: wrench invalid (the mixer treats it
 // as absent). Odometry stale: neutral, or the last wrench for hold_s, per config.
+// Bad input (core/message_checks.hpp) is dropped and counted: odometry with non-finite values
+// (rejected.odometry.nan) or angles / covariance size out of contract (rejected.odometry.range);
+// a setpoint out of contract, e.g. a valid heading outside (-pi, pi] (rejected.setpoint.invalid);
+// an allocation status out of contract (rejected.allocation.invalid); and the manual command,
+// mode, path progress and station wrench as before (rejected.manual/mode/progress.invalid,
+// rejected.wrench_station.nan).
 #pragma once
 
 #include <tiller/allocation_status_t.hpp>
@@ -46,6 +52,8 @@ class VelocityPidNode : public Node {
   const PidTerms& terms() const { return terms_; }
 
  private:
+  // A counter made on first use (a rejection), so good input leaves the heartbeat as it was.
+  std::int64_t& first_use(std::int64_t*& c, const char* name);
   void publish_wrench(TimeUs now, bool valid, double x, double y, double n);
 
   VelocityPidNodeParams p_;
@@ -73,6 +81,7 @@ class VelocityPidNode : public Node {
   std::int8_t prev_source_ = -1;  // the arbiter's source at the previous tick
   std::int64_t *nan_odometry_, *bad_setpoint_, *bad_manual_, *bad_progress_, *bad_mode_,
       *bad_station_wrench_;
+  std::int64_t *range_odometry_ = nullptr, *bad_allocation_ = nullptr;  // made on first use
 };
 
 }  // namespace tiller::control

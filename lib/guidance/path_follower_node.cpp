@@ -1,10 +1,13 @@
 #include "guidance/path_follower_node.hpp"
 
+#include <string_view>
+
 #include <tiller/path_progress_t.hpp>
 #include <tiller/station_target_t.hpp>
 #include <tiller/velocity_setpoint_t.hpp>
 
 #include "core/checks.hpp"
+#include "core/message_checks.hpp"
 #include "runtime/channels.hpp"
 
 namespace tiller::guidance {
@@ -73,8 +76,16 @@ void PathFollowerNode::start_pending_path() {
 }
 
 void PathFollowerNode::on_odometry(const odometry_t& m, TimeUs now) {
-  if (!all_finite(m.position) || !all_finite(m.orientation) || !all_finite(m.velocity)) {
-    reject(*nan_odometry_);
+  // The whole message against its contract (core/message_checks.hpp): non-finite values count
+  // under rejected.odometry.nan, the rest (angles out of range, covariance size) under .range.
+  if (const char* why = checks::check(m)) {
+    if (std::string_view(why).ends_with(".nan")) {
+      reject(*nan_odometry_);
+    } else {
+      // Made on first use, so the heartbeat of a run with good input is unchanged.
+      if (!range_odometry_) range_odometry_ = &counter("rejected.odometry.range");
+      reject(*range_odometry_);
+    }
     return;
   }
   pos_ = Vec2(m.position[0], m.position[1]);

@@ -7,7 +7,9 @@
 //   TILLER_PATH_PROGRESS      segment, cross-track / along-track m, distance to goal m, complete;
 //   TILLER_STATION_TARGET     the last point (and its heading) once the path is complete.
 // Bad input: a path with NaN, out-of-range or too many points is dropped whole and counted
-// (rejected.path.invalid); odometry with NaN is dropped and counted (rejected.odometry.nan).
+// (rejected.path.invalid); odometry that fails its contract (core/message_checks.hpp) is dropped
+// and counted: non-finite values under rejected.odometry.nan, angles out of range or a
+// covariance of the wrong size under rejected.odometry.range.
 #pragma once
 
 #include <tiller/controller_mode_t.hpp>
@@ -49,6 +51,7 @@ class PathFollowerNode : public Node {
   bool pending_ = false;
   std::vector<Waypoint> pending_points_;
   std::int64_t* nan_odometry_;
+  std::int64_t* range_odometry_ = nullptr;  // made on first use
   std::int64_t* invalid_path_;
   std::int64_t* paths_started_;
 };
