@@ -88,9 +88,9 @@ void VelocityPidNode::on_setpoint(const velocity_setpoint_t& m, TimeUs now) {
 }
 
 void VelocityPidNode::on_manual(const manual_velocity_cmd_t& m, TimeUs now) {
-  if (!all_in_range(m.velocity, -10, 10) || !in_range(m.yaw_rate, -5, 5) ||
-      !std::isfinite(m.heading) || !in_range(m.yaw_torque, -1e4, 1e4) || m.yaw_mode < 0 ||
-      m.yaw_mode > 2) {
+  // Its contract: velocity within 10 m/s, a known yaw mode, yaw rate within 5 rad/s, heading in
+  // (-pi, pi], yaw torque within 1e4 N m.
+  if (checks::check(m) != nullptr) {
     reject(*bad_manual_);
     return;
   }
@@ -99,7 +99,7 @@ void VelocityPidNode::on_manual(const manual_velocity_cmd_t& m, TimeUs now) {
 }
 
 void VelocityPidNode::on_mode(const controller_mode_t& m, TimeUs) {
-  if (m.mode < controller_mode_t::MANUAL_OPEN_LOOP || m.mode > controller_mode_t::WAYPOINTING) {
+  if (checks::check(m) != nullptr) {  // an unknown mode
     reject(*bad_mode_);
     return;
   }
@@ -108,7 +108,8 @@ void VelocityPidNode::on_mode(const controller_mode_t& m, TimeUs) {
 }
 
 void VelocityPidNode::on_progress(const path_progress_t& m, TimeUs now) {
-  if (!std::isfinite(m.distance_to_goal) || m.distance_to_goal < 0) {
+  // Its contract: segment >= -1, n_waypoints >= 0, errors finite, distance to goal >= 0.
+  if (checks::check(m) != nullptr) {
     reject(*bad_progress_);
     return;
   }

@@ -13,9 +13,9 @@
 // Bad input (core/message_checks.hpp) is dropped and counted: odometry with non-finite values
 // (rejected.odometry.nan) or angles / covariance size out of contract (rejected.odometry.range);
 // a setpoint out of contract, e.g. a valid heading outside (-pi, pi] (rejected.setpoint.invalid);
-// an allocation status out of contract (rejected.allocation.invalid); and the manual command,
-// mode, path progress and station wrench as before (rejected.manual/mode/progress.invalid,
-// rejected.wrench_station.nan).
+// an allocation status out of contract (rejected.allocation.invalid); a manual command, mode or
+// path progress out of contract (rejected.manual/mode/progress.invalid); a station-keep wrench
+// with NaN (rejected.wrench_station.nan).
 #pragma once
 
 #include <tiller/allocation_status_t.hpp>

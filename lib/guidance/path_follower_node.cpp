@@ -96,6 +96,11 @@ void PathFollowerNode::on_odometry(const odometry_t& m, TimeUs now) {
 }
 
 void PathFollowerNode::on_mode(const controller_mode_t& m, TimeUs) {
+  if (checks::check(m) != nullptr) {  // an unknown mode: its is_translation is not trusted
+    if (!bad_mode_) bad_mode_ = &counter("rejected.mode.invalid");
+    reject(*bad_mode_);
+    return;
+  }
   is_translation_ = m.is_translation;
   follower_.set_translation(is_translation_, heading_);
 }

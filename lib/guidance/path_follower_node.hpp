@@ -9,7 +9,8 @@
 // Bad input: a path with NaN, out-of-range or too many points is dropped whole and counted
 // (rejected.path.invalid); odometry that fails its contract (core/message_checks.hpp) is dropped
 // and counted: non-finite values under rejected.odometry.nan, angles out of range or a
-// covariance of the wrong size under rejected.odometry.range.
+// covariance of the wrong size under rejected.odometry.range; a mode message with an unknown
+// mode is dropped and counted (rejected.mode.invalid).
 #pragma once
 
 #include <tiller/controller_mode_t.hpp>
@@ -52,6 +53,7 @@ class PathFollowerNode : public Node {
   std::vector<Waypoint> pending_points_;
   std::int64_t* nan_odometry_;
   std::int64_t* range_odometry_ = nullptr;  // made on first use
+  std::int64_t* bad_mode_ = nullptr;        // made on first use
   std::int64_t* invalid_path_;
   std::int64_t* paths_started_;
 };
