@@ -540,7 +540,75 @@ bool Allocator::feasible_start(const Group& g, const ThrustVec& b, ThrustVec& f0
   return true;
 }
 
+// Cascaded pseudo-inverse from the minimum-norm point: thrusters beyond a limit are fixed at it
+// and the rest re-solved (minimum norm) for the same wrench, until everything fits. Depends on
+// the wrench alone, and a thruster reaching its limit changes nothing at that moment, so the
+// result moves continuously with the demand. False when it runs out of free thrusters.
+bool Allocator::cascade(const Group& g, const ThrustVec& f_mn, ThrustVec& f) const {
+  const int m = static_cast<int>(g.axes.size()), n = static_cast<int>(g.idx.size());
+  const Small w = group_wrench(g, f_mn);
+  f = f_mn;
+  bool fixed[kMaxThrusters] = {};
+  for (int iter = 0; iter < n; ++iter) {
+    bool any = false;
+    for (int k = 0; k < n; ++k) {
+      const auto kk = static_cast<std::size_t>(k);
+      const double lo = g.lp.lo[kk], hi = g.lp.hi[kk];
+      const double tol = 1e-9 * (1.0 + std::max(hi, -lo));
+      if (!fixed[k] && (f(k) > hi + tol || f(k) < lo - tol)) {
+        f(k) = std::clamp(f(k), lo, hi);
+        fixed[k] = true;
+        any = true;
+      }
+    }
+    if (!any) return true;
+    // Free thrusters: minimum norm for w - (fixed ones' wrench), f_F = B_F' (B_F B_F')^-1 r.
+    Small r = w;
+    int nfree = 0;
+    for (int k = 0; k < n; ++k) {
+      if (!fixed[k]) {
+        ++nfree;
+        continue;
+      }
+      for (int a = 0; a < m; ++a) r(a) -= g.rows(a, g.idx[static_cast<std::size_t>(k)]) * f(k);
+    }
+    if (nfree < m) return false;
+    Eigen::Matrix<double, Eigen::Dynamic, Eigen::Dynamic, 0, 6, 6> gram =
+        Eigen::Matrix<double, Eigen::Dynamic, Eigen::Dynamic, 0, 6, 6>::Zero(m, m);
+    for (int k = 0; k < n; ++k) {
+      if (fixed[k]) continue;
+      const int col = g.idx[static_cast<std::size_t>(k)];
+      for (int a = 0; a < m; ++a)
+        for (int c = 0; c < m; ++c) gram(a, c) += g.rows(a, col) * g.rows(c, col);
+    }
+    Eigen::LLT<Eigen::Matrix<double, Eigen::Dynamic, Eigen::Dynamic, 0, 6, 6>> llt(gram);
+    if (llt.info() != Eigen::Success) return false;
+    const Small y = llt.solve(r);
+    for (int k = 0; k < n; ++k) {
+      if (fixed[k]) continue;
+      const int col = g.idx[static_cast<std::size_t>(k)];
+      double v = 0;
+      for (int a = 0; a < m; ++a) v += g.rows(a, col) * y(a);
+      f(k) = v;
+    }
+  }
+  return false;
+}
+
 void Allocator::toward_feasible(const Group& g, const ThrustVec& f_mn, ThrustVec& f_v) const {
+  // With one spare direction, the first point within limits on the way from f_mn is the
+  // nearest whatever feasible f_v is. With more, the cascade (when it succeeds) is used: the
+  // segment toward an LP vertex could jump between vertices as the demand changes.
+  if (g.null_dim >= 2) {
+    ThrustVec fc;
+    if (cascade(g, f_mn, fc)) {
+      for (std::size_t k = 0; k < g.idx.size(); ++k)
+        fc(static_cast<Eigen::Index>(k)) =
+            std::clamp(fc(static_cast<Eigen::Index>(k)), g.lp.lo[k], g.lp.hi[k]);
+      f_v = fc;
+      return;
+    }
+  }
   double t = 0;
   for (std::size_t k = 0; k < g.idx.size(); ++k) {
     const auto kk = static_cast<Eigen::Index>(k);

@@ -161,6 +161,7 @@ class Allocator {
   // Among points solving the same equations, from the minimum-norm f_mn toward the feasible
   // f_v, the first one within limits (f_mn itself when it fits).
   void toward_feasible(const Group& g, const ThrustVec& f_mn, ThrustVec& f_v) const;
+  bool cascade(const Group& g, const ThrustVec& f_mn, ThrustVec& f) const;
   void clamp_group(const Group& g, ThrustVec& f) const;
   bool finish(ThrustVec& thrust, AllocationResult& out) const;
   void allocate_matrix(const Wrench& tau_norm, AllocationResult& out) const;

@@ -240,6 +240,38 @@ TEST(Allocation, SpareThrustersGiveTheSeed004XDriveItsFullSideways) {
   EXPECT_EQ(r.scale, 1.0);
 }
 
+TEST(Allocation, ThrustMovesContinuouslyWithTheDemandUnderSaturation) {
+  // The spare thrusters' share must not jump between equally good distributions from one
+  // demand to the next (a thruster slewing 150 N to make the same wrench): demands swept
+  // along random directions from 0 to 3x what the vehicle can do, in 4000 steps.
+  std::mt19937 rng(17);
+  for (const auto& name : preset_names()) {
+    for (Strategy s : {Strategy::kDirectionPreserving, Strategy::kPrioritised}) {
+      Vehicle v = test::with_strategy(preset(name), s);
+      if (v.allocation.has_matrix()) continue;
+      if (s == Strategy::kPrioritised) v.allocation.priority = {{5}, {0}, {1}, {2}, {4}, {3}};
+      SCOPED_TRACE(name + " " + strategy_name(s));
+      const Allocator a(v);
+      double worst = 0, limit = 0;
+      for (int i = 0; i < a.size(); ++i)
+        limit = std::max(limit, a.vehicle().thrusters[static_cast<std::size_t>(i)].thrust_max());
+      for (int trial = 0; trial < 20; ++trial) {
+        const Wrench dir = random_wrench(a, rng, 1.0);
+        AllocationResult r, prev;
+        for (int k = 0; k <= 4000; ++k) {
+          ASSERT_TRUE(a.allocate(dir * (3.0 * k / 4000), r));
+          if (k > 0)
+            for (int i = 0; i < a.size(); ++i)
+              worst = std::max(worst, std::abs(r.thrust[static_cast<std::size_t>(i)] -
+                                               prev.thrust[static_cast<std::size_t>(i)]));
+          prev = r;
+        }
+      }
+      EXPECT_LT(worst, 0.02 * limit) << "largest thrust step between neighbouring demands";
+    }
+  }
+}
+
 TEST(Allocation, LayoutsWithoutSpareThrustersKeepThePseudoInverseExactly) {
   // Otter and WAM-V have no null space: the saturated answer is the pseudo-inverse one,
   // hand-checkable (the golden logs depend on it).
