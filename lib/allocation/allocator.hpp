@@ -27,8 +27,10 @@
 //   fixed-size arrays, <= 6 rows, <= 17 columns) maximises mu with lo <= f <= hi and
 //   B_g f = B_g f0 + mu d. The returned thrust is the minimum-norm one whenever that fits (so
 //   the unsaturated path, and every group without spare thrusters, e.g. the Otter and WAM-V,
-//   are the pseudo-inverse bit for bit), else the first point within limits on the segment
-//   from the minimum-norm solution toward the LP's vertex. The same solver gives axis_max()
+//   are the pseudo-inverse bit for bit), else one chosen from the wrench alone: with one spare
+//   direction the point within limits nearest the minimum-norm one; with more, the cascaded
+//   pseudo-inverse (thrusters beyond a limit fixed there, the rest re-solved), falling back to
+//   the first point within limits on the segment toward the LP's vertex.
 //   and, per level, the prioritised allocation.
 //   clip                  unconstrained solution clipped per thruster (for comparison only).
 // Explicit-matrix vehicles (seed tables): s = M * tau_norm with tau_norm_j = tau_j /
