@@ -30,8 +30,8 @@
 //   are the pseudo-inverse bit for bit), else one chosen from the wrench alone: with one spare
 //   direction the point within limits nearest the minimum-norm one; with more, the cascaded
 //   pseudo-inverse (thrusters beyond a limit fixed there, the rest re-solved), falling back to
-//   the first point within limits on the segment toward the LP's vertex.
-//   and, per level, the prioritised allocation.
+//   the first point within limits on the segment toward the LP's vertex. The same solver
+//   gives axis_max() and, per level, the prioritised allocation.
 //   clip                  unconstrained solution clipped per thruster (for comparison only).
 // Explicit-matrix vehicles (seed tables): s = M * tau_norm with tau_norm_j = tau_j /
 // full_scale_j (full_scale: the wrench one unit of axis j gives, from the geometry). units:
