@@ -4,6 +4,9 @@
 // node counts before dropping the message (runtime/node.hpp reject()). No allocation, no
 // throw. NaN and infinity fail every numeric check; headings must be in (-pi, pi] (so -pi is
 // refused: the contract's representation of "south" is +pi).
+// Covariances are checked over their count (n_pose_cov, n_velocity_cov), not the vector's size:
+// lcm-gen's decode resizes an array of doubles only when its count is non-zero, so a node's
+// reused decode target keeps the previous message's entries after one with no covariance.
 //
 // Usage in a handler (one counter per input, or one per reason):
 //   if (checks::check(m) != nullptr) {
@@ -50,6 +53,12 @@ inline bool within(const double* v, std::size_t n, double lo, double hi) {
     if (!(std::isfinite(v[i]) && v[i] >= lo && v[i] <= hi)) return false;
   return true;
 }
+// The first n entries of a variable-length array (its count field); false if it holds fewer.
+template <class V>
+bool finite_prefix(const V& v, std::int32_t n) {
+  return n >= 0 && v.size() >= static_cast<std::size_t>(n) &&
+         finite(v.data(), static_cast<std::size_t>(n));
+}
 // A heading or a wrapped angle: (-pi, pi].
 inline bool heading(double a) {
   return std::isfinite(a) && a > -kPi && a <= kPi;
@@ -73,10 +82,12 @@ inline Reason check(const odometry_t& m) {
   if (!heading(m.orientation[2])) return "yaw.range";
   if (!finite(m.velocity, 6)) return "velocity.nan";
   if (m.n_pose_cov != 0 && m.n_pose_cov != 36) return "pose_cov.size";
-  if (!finite(m.pose_covariance.data(), m.pose_covariance.size())) return "pose_cov.nan";
+  if (m.pose_covariance.size() < static_cast<std::size_t>(m.n_pose_cov)) return "pose_cov.size";
+  if (!finite_prefix(m.pose_covariance, m.n_pose_cov)) return "pose_cov.nan";
   if (m.n_velocity_cov != 0 && m.n_velocity_cov != 36) return "velocity_cov.size";
-  if (!finite(m.velocity_covariance.data(), m.velocity_covariance.size()))
-    return "velocity_cov.nan";
+  if (m.velocity_covariance.size() < static_cast<std::size_t>(m.n_velocity_cov))
+    return "velocity_cov.size";
+  if (!finite_prefix(m.velocity_covariance, m.n_velocity_cov)) return "velocity_cov.nan";
   return nullptr;
 }
 

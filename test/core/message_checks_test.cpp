@@ -321,5 +321,38 @@ TEST(MessageChecks, ProgressCommandsEscJoystick) {
                 });
 }
 
+// A node decodes every message of a channel into one reused object, and lcm-gen's decode leaves
+// an array of doubles as it was when its count is 0. The odometry check looks at the first
+// `count` covariance entries only, so good odometry after one with a NaN covariance is not
+// refused for the previous message's entries.
+template <class Msg>
+void decode_into(const Msg& from, Msg& target) {
+  std::vector<std::uint8_t> buf(static_cast<std::size_t>(from.getEncodedSize()));
+  ASSERT_EQ(from.encode(buf.data(), 0, static_cast<int>(buf.size())), static_cast<int>(buf.size()));
+  ASSERT_EQ(target.decode(buf.data(), 0, static_cast<int>(buf.size())),
+            static_cast<int>(buf.size()));
+}
+
+TEST(MessageChecks, ReusedDecodeTargetIsJudgedOnItsCountNotOnStaleEntries) {
+  odometry_t bad{};
+  bad.n_pose_cov = 36;
+  bad.pose_covariance.assign(36, 0.0);
+  bad.pose_covariance[3] = kNan;
+  bad.n_velocity_cov = 36;
+  bad.velocity_covariance.assign(36, kInf);
+  odometry_t target{};
+  decode_into(bad, target);
+  EXPECT_STREQ(check(target), "pose_cov.nan");
+  decode_into(odometry_t{}, target);              // no covariances
+  EXPECT_EQ(target.pose_covariance.size(), 36u);  // lcm-gen left the stale entries
+  EXPECT_EQ(check(target), nullptr);
+
+  // A hand-made message whose array holds fewer entries than its count is refused.
+  odometry_t short_cov{};
+  short_cov.n_pose_cov = 36;
+  short_cov.pose_covariance.assign(9, 0.0);
+  EXPECT_STREQ(check(short_cov), "pose_cov.size");
+}
+
 }  // namespace
 }  // namespace tiller::checks
