@@ -1,13 +1,18 @@
 // The velocity-PID node (with the arbiter) and the station-keep node: arbitration on the bus,
 // integrators reset on entry and frozen by the mixer's status, NaN odometry dropped and
 // counted, odometry that stops -> neutral or hold by config within the freshness limit (both
-// nodes), a NaN wrench from the other controller dropped and counted.
+// nodes), a NaN wrench from the other controller dropped and counted; and, table-driven, a
+// malformed message of each input type (core/message_checks.hpp) dropped, counted under its
+// counter, and the node's outputs bit-identical to the same run without it.
 #include <gtest/gtest.h>
 
 #include <tiller/arbitration_t.hpp>
 #include <tiller/pid_terms_t.hpp>
 
 #include <cmath>
+#include <functional>
+#include <set>
+#include <vector>
 
 #include "control/station_keep_node.hpp"
 #include "control/velocity_pid_node.hpp"
@@ -291,6 +296,340 @@ TEST(ControllerNodes, NanWrenchFromTheOtherControllerIsDroppedAndCounted) {
   EXPECT_GE(s.rejected(), 1);
   for (double x : b.wv.tau) EXPECT_TRUE(std::isfinite(x));
   for (double x : b.ws.tau) EXPECT_TRUE(std::isfinite(x));
+}
+
+// ---- Malformed input, table-driven. A reference run with good input on every channel; then,
+// per case, the same run with one malformed message added at 0.525 s. The message must be
+// counted (its counter and rejected() both 1) and never reach the controller: every message on
+// the node's output channels is byte-identical to the reference run's.
+
+constexpr TimeUs kBadAt = 525'000;
+constexpr TimeUs kEnd = 1'500'000;
+constexpr double kPi = 3.14159265358979323846;
+
+using Inject = std::function<void(LockstepExecutor&)>;
+struct BadCase {
+  std::string what;
+  Inject inject;
+  std::string counter;
+};
+
+using Outputs = std::vector<std::pair<std::string, std::vector<std::uint8_t>>>;
+
+void record(LockstepExecutor& ex, const std::set<std::string>& channels, Outputs& out) {
+  ex.observe([&channels, &out](const std::string& ch, const std::uint8_t* d, int n, TimeUs) {
+    if (channels.count(ch)) out.emplace_back(ch, std::vector<std::uint8_t>(d, d + n));
+  });
+}
+
+template <class Msg>
+Inject bad(const std::string& channel, Msg m) {
+  return [channel, m](LockstepExecutor& ex) { ex.inject(channel, m, kBadAt); };
+}
+
+// Odometry cases shared by both nodes (the good message is odom(t, 0, 0, 0.1, 0.5)).
+std::vector<BadCase> bad_odometry() {
+  auto o = [](auto f) {
+    odometry_t m = odom(kBadAt, 0, 0, 0.1, 0.5);
+    f(m);
+    return bad(channels::kOdometry, m);
+  };
+  return {
+      {"odometry position NaN", o([](odometry_t& m) { m.position[0] = NAN; }),
+       "rejected.odometry.nan"},
+      {"odometry velocity inf", o([](odometry_t& m) { m.velocity[5] = INFINITY; }),
+       "rejected.odometry.nan"},
+      {"odometry yaw NaN", o([](odometry_t& m) { m.orientation[2] = NAN; }),
+       "rejected.odometry.nan"},
+      {"odometry yaw 4 rad", o([](odometry_t& m) { m.orientation[2] = 4.0; }),
+       "rejected.odometry.range"},
+      {"odometry yaw -pi", o([](odometry_t& m) { m.orientation[2] = -kPi; }),
+       "rejected.odometry.range"},
+      {"odometry pitch 1.6 rad", o([](odometry_t& m) { m.orientation[1] = 1.6; }),
+       "rejected.odometry.range"},
+      {"odometry pose covariance of 9", o([](odometry_t& m) {
+         m.n_pose_cov = 9;
+         m.pose_covariance.assign(9, 0.01);
+       }),
+       "rejected.odometry.range"},
+      {"odometry velocity covariance NaN", o([](odometry_t& m) {
+         m.n_velocity_cov = 36;
+         m.velocity_covariance.assign(36, 0.0);
+         m.velocity_covariance[7] = NAN;
+       }),
+       "rejected.odometry.nan"},
+  };
+}
+
+allocation_status_t good_alloc(std::int8_t source) {
+  allocation_status_t a{};
+  a.source = source;
+  a.scale = 1.0;
+  a.n_thrusters = 2;
+  a.names = {"port", "starboard"};
+  a.saturated.assign(2, false);
+  return a;
+}
+
+// Allocation status cases: each claims the node's axes reduced (so, if it were accepted, the
+// integrators would freeze and the output would change).
+std::vector<BadCase> bad_allocation(std::int8_t source) {
+  auto a = [source](auto f) {
+    allocation_status_t m = good_alloc(source);
+    m.utime = kBadAt;
+    m.axis_reduced[0] = m.axis_reduced[1] = m.axis_reduced[5] = true;
+    f(m);
+    return bad(channels::kAllocationStatus, m);
+  };
+  return {
+      {"allocation scale 1.5", a([](allocation_status_t& m) { m.scale = 1.5; }),
+       "rejected.allocation.invalid"},
+      {"allocation achieved NaN", a([](allocation_status_t& m) { m.achieved[0] = NAN; }),
+       "rejected.allocation.invalid"},
+      {"allocation unknown source", a([](allocation_status_t& m) { m.source = 42; }),
+       "rejected.allocation.invalid"},
+  };
+}
+
+template <class NodeT, class ParamsT>
+Outputs run_with(const std::function<void(LockstepExecutor&)>& good, const Inject& extra,
+                 const ParamsT& p, const std::set<std::string>& outs,
+                 std::function<void(const NodeT&)> after = nullptr) {
+  NodeT node(p);
+  LockstepExecutor ex(0);
+  ex.add(node);
+  Outputs o;
+  record(ex, outs, o);
+  good(ex);
+  if (extra) extra(ex);
+  ex.run_until(kEnd);
+  if (after) after(node);
+  return o;
+}
+
+// Good input for the velocity PID in waypointing: a path in progress, an active NED setpoint
+// with a heading, odometry, the mixer's status for the velocity PID, a station-keep wrench.
+void velocity_good_input(LockstepExecutor& ex) {
+  ex.inject(channels::kMode, mode(controller_mode_t::WAYPOINTING), 0);
+  for (TimeUs t = 0; t < kEnd; t += 50'000) {
+    ex.inject(channels::kOdometry, odom(t, 0, 0, 0.1, 0.5), t);
+    velocity_setpoint_t sp{};
+    sp.utime = t;
+    sp.frame = velocity_setpoint_t::FRAME_NED;
+    sp.active = true;
+    sp.velocity[0] = 1.0;
+    sp.velocity[1] = 0.2;
+    sp.heading_valid = true;
+    sp.target_heading = 0.5;
+    ex.inject(channels::kVelocitySetpoint, sp, t);
+    path_progress_t pr{};
+    pr.utime = t;
+    pr.path_id = 1;
+    pr.segment = 0;
+    pr.n_waypoints = 2;
+    pr.distance_to_goal = 10.0;
+    ex.inject(channels::kPathProgress, pr, t);
+    auto a = good_alloc(wrench_t::SOURCE_VELOCITY_PID);
+    a.utime = t;
+    ex.inject(channels::kAllocationStatus, a, t);
+  }
+}
+
+TEST(VelocityPidNode, MalformedInputOfEachTypeIsDroppedCountedAndChangesNothing) {
+  auto p = load_velocity_pid_node_params(config::Value::load_file(kOtter));
+  const std::set<std::string> outs = {channels::kWrenchVelocity, channels::kArbitration,
+                                      channels::kPidVelocity};
+  const Outputs ref = run_with<VelocityPidNode>(velocity_good_input, nullptr, p, outs);
+  // The reference is a live controller: velocity PID in charge, a finite, non-zero wrench.
+  wrench_t last{};
+  for (const auto& [ch, bytes] : ref)
+    if (ch == channels::kWrenchVelocity)
+      last.decode(bytes.data(), 0, static_cast<int>(bytes.size()));
+  ASSERT_TRUE(last.valid);
+  ASSERT_GT(std::abs(last.tau[0]), 1.0);
+  ASSERT_GT(std::abs(last.tau[5]), 1.0);
+
+  std::vector<BadCase> cases = bad_odometry();
+  for (auto& c : bad_allocation(wrench_t::SOURCE_VELOCITY_PID)) cases.push_back(c);
+  auto sp = [](auto f) {
+    velocity_setpoint_t m{};
+    m.utime = kBadAt;
+    m.frame = velocity_setpoint_t::FRAME_NED;
+    m.active = true;
+    m.velocity[0] = -1.0;
+    m.heading_valid = true;
+    m.target_heading = -1.0;
+    f(m);
+    return bad(channels::kVelocitySetpoint, m);
+  };
+  cases.push_back({"setpoint heading 4 rad",
+                   sp([](velocity_setpoint_t& m) { m.target_heading = 4.0; }),
+                   "rejected.setpoint.invalid"});
+  cases.push_back({"setpoint heading -pi",
+                   sp([](velocity_setpoint_t& m) { m.target_heading = -kPi; }),
+                   "rejected.setpoint.invalid"});
+  cases.push_back({"setpoint velocity NaN", sp([](velocity_setpoint_t& m) { m.velocity[1] = NAN; }),
+                   "rejected.setpoint.invalid"});
+  cases.push_back({"setpoint unknown frame", sp([](velocity_setpoint_t& m) { m.frame = 9; }),
+                   "rejected.setpoint.invalid"});
+  auto man = [](auto f) {
+    manual_velocity_cmd_t m{};
+    m.utime = kBadAt;
+    m.valid = true;
+    m.yaw_mode = manual_velocity_cmd_t::YAW_HEADING;
+    f(m);
+    return bad(channels::kManualVelocity, m);
+  };
+  cases.push_back({"manual heading 4 rad", man([](manual_velocity_cmd_t& m) { m.heading = 4.0; }),
+                   "rejected.manual.invalid"});
+  cases.push_back({"manual velocity NaN",
+                   man([](manual_velocity_cmd_t& m) { m.velocity[0] = NAN; }),
+                   "rejected.manual.invalid"});
+  controller_mode_t bad_mode = mode(7);
+  bad_mode.is_translation = true;
+  cases.push_back({"mode unknown", bad(channels::kMode, bad_mode), "rejected.mode.invalid"});
+  path_progress_t pr{};
+  pr.utime = kBadAt;
+  pr.path_id = 1;
+  pr.segment = 0;
+  pr.complete = true;
+  pr.distance_to_goal = NAN;
+  cases.push_back(
+      {"progress distance NaN", bad(channels::kPathProgress, pr), "rejected.progress.invalid"});
+  pr.distance_to_goal = 0.0;
+  pr.cross_track_error = INFINITY;
+  cases.push_back(
+      {"progress cross-track inf", bad(channels::kPathProgress, pr), "rejected.progress.invalid"});
+  wrench_t w{};
+  w.utime = kBadAt;
+  w.source = wrench_t::SOURCE_STATION_KEEP;
+  w.valid = true;
+  w.tau[1] = NAN;
+  cases.push_back(
+      {"station wrench NaN", bad(channels::kWrenchStation, w), "rejected.wrench_station.nan"});
+
+  for (const auto& c : cases) {
+    SCOPED_TRACE(c.what);
+    std::int64_t counted = -1, rejected = -1;
+    const Outputs got = run_with<VelocityPidNode>(velocity_good_input, c.inject, p, outs,
+                                                  [&](const VelocityPidNode& n) {
+                                                    counted = n.counter_value(c.counter);
+                                                    rejected = n.rejected();
+                                                  });
+    EXPECT_EQ(counted, 1);
+    EXPECT_EQ(rejected, 1);
+    ASSERT_EQ(got.size(), ref.size());
+    for (std::size_t i = 0; i < ref.size(); ++i) {
+      ASSERT_EQ(got[i], ref[i]) << "output " << i << " on " << ref[i].first << " differs";
+    }
+  }
+}
+
+// Good input for station keeping in charge: an active target with a heading, the arbitration
+// naming station keeping, odometry, the mixer's status for station keeping, a velocity wrench.
+void station_good_input(LockstepExecutor& ex) {
+  for (TimeUs t = 0; t < kEnd; t += 50'000) {
+    ex.inject(channels::kOdometry, odom(t, 0, 0, 0.1, 0.5), t);
+    station_target_t st{};
+    st.utime = t;
+    st.active = true;
+    st.position[0] = 2.0;
+    st.position[1] = 1.0;
+    st.heading_valid = true;
+    st.heading = 0.4;
+    ex.inject(channels::kStationTarget, st, t);
+    arbitration_t arb{};
+    arb.utime = t;
+    arb.mode = controller_mode_t::WAYPOINTING;
+    arb.active_source = wrench_t::SOURCE_STATION_KEEP;
+    arb.reason = "test";
+    ex.inject(channels::kArbitration, arb, t);
+    auto a = good_alloc(wrench_t::SOURCE_STATION_KEEP);
+    a.utime = t;
+    ex.inject(channels::kAllocationStatus, a, t);
+    wrench_t w{};
+    w.utime = t;
+    w.source = wrench_t::SOURCE_VELOCITY_PID;
+    w.valid = true;
+    w.tau[0] = 30.0;
+    ex.inject(channels::kWrenchVelocity, w, t);
+  }
+}
+
+TEST(StationKeepNode, MalformedInputOfEachTypeIsDroppedCountedAndChangesNothing) {
+  auto p = load_station_keep_node_params(config::Value::load_file(kOtter));
+  const std::set<std::string> outs = {channels::kWrenchStation, channels::kPidStation};
+  const Outputs ref = run_with<StationKeepNode>(station_good_input, nullptr, p, outs);
+  wrench_t last{};
+  for (const auto& [ch, bytes] : ref)
+    if (ch == channels::kWrenchStation)
+      last.decode(bytes.data(), 0, static_cast<int>(bytes.size()));
+  ASSERT_TRUE(last.valid);
+  ASSERT_GT(std::abs(last.tau[0]), 1.0);
+  ASSERT_GT(std::abs(last.tau[5]), 1.0);
+
+  std::vector<BadCase> cases = bad_odometry();
+  for (auto& c : bad_allocation(wrench_t::SOURCE_STATION_KEEP)) cases.push_back(c);
+  auto st = [](auto f) {
+    station_target_t m{};
+    m.utime = kBadAt;
+    m.active = true;
+    m.position[0] = -5.0;
+    m.heading_valid = true;
+    m.heading = -1.0;
+    f(m);
+    return bad(channels::kStationTarget, m);
+  };
+  cases.push_back({"target heading 4 rad", st([](station_target_t& m) { m.heading = 4.0; }),
+                   "rejected.target.invalid"});
+  cases.push_back({"target heading -pi", st([](station_target_t& m) { m.heading = -kPi; }),
+                   "rejected.target.invalid"});
+  cases.push_back({"target heading NaN (not valid)", st([](station_target_t& m) {
+                     m.heading_valid = false;
+                     m.heading = NAN;
+                   }),
+                   "rejected.target.invalid"});
+  cases.push_back({"target position NaN", st([](station_target_t& m) { m.position[1] = NAN; }),
+                   "rejected.target.invalid"});
+  cases.push_back({"target position 2e6 m", st([](station_target_t& m) { m.position[0] = 2e6; }),
+                   "rejected.target.invalid"});
+  auto arb = [](auto f) {
+    arbitration_t m{};
+    m.utime = kBadAt;
+    m.mode = controller_mode_t::WAYPOINTING;
+    m.active_source = wrench_t::SOURCE_VELOCITY_PID;  // accepted, it would stand us down
+    m.reason = "bad";
+    f(m);
+    return bad(channels::kArbitration, m);
+  };
+  cases.push_back({"arbitration unknown mode", arb([](arbitration_t& m) { m.mode = 9; }),
+                   "rejected.arbitration.invalid"});
+  cases.push_back({"arbitration unknown source",
+                   arb([](arbitration_t& m) { m.active_source = 42; }),
+                   "rejected.arbitration.invalid"});
+  wrench_t w{};
+  w.utime = kBadAt;
+  w.source = wrench_t::SOURCE_VELOCITY_PID;
+  w.valid = true;
+  w.tau[0] = NAN;
+  cases.push_back(
+      {"velocity wrench NaN", bad(channels::kWrenchVelocity, w), "rejected.wrench_velocity.nan"});
+
+  for (const auto& c : cases) {
+    SCOPED_TRACE(c.what);
+    std::int64_t counted = -1, rejected = -1;
+    const Outputs got = run_with<StationKeepNode>(station_good_input, c.inject, p, outs,
+                                                  [&](const StationKeepNode& n) {
+                                                    counted = n.counter_value(c.counter);
+                                                    rejected = n.rejected();
+                                                  });
+    EXPECT_EQ(counted, 1);
+    EXPECT_EQ(rejected, 1);
+    ASSERT_EQ(got.size(), ref.size());
+    for (std::size_t i = 0; i < ref.size(); ++i) {
+      ASSERT_EQ(got[i], ref[i]) << "output " << i << " on " << ref[i].first << " differs";
+    }
+  }
 }
 
 }  // namespace

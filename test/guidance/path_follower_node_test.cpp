@@ -1,4 +1,6 @@
-// The path follower node: messages in, setpoint / progress / station target out; bad input.
+// The path follower node: messages in, setpoint / progress / station target out; bad input
+// (table-driven: a malformed message of each input type is dropped, counted, and changes no
+// output); a cancel over the bus after a path is obeyed.
 #include <gtest/gtest.h>
 
 #include <tiller/path_progress_t.hpp>
@@ -6,6 +8,9 @@
 #include <tiller/velocity_setpoint_t.hpp>
 
 #include <cmath>
+#include <functional>
+#include <set>
+#include <vector>
 
 #include "core/config.hpp"
 #include "guidance/path_follower_node.hpp"
@@ -128,6 +133,155 @@ TEST(PathFollowerNode, StaleOdometryMakesTheSetpointInactiveWithinItsLimit) {
   ex.run_until(600'000);
   EXPECT_FALSE(s.sp.active);
   EXPECT_EQ(node.stale(), 1);
+}
+
+// A path, then a cancel (n_waypoints 0), both through the node's subscription (one reused decode
+// target): the cancel is obeyed, not refused.
+TEST(PathFollowerNode, CancelAfterAPathOverTheBusStopsTheFollower) {
+  PathFollowerNode node(params());
+  LockstepExecutor ex(0);
+  ex.add(node);
+  Seen s;
+  watch(ex, s);
+  ex.inject(channels::kOdometry, odom(0, 0, 0, 0), 0);
+  ex.inject(channels::kPath, path(5, {{0, 0}, {100, 0}}), 10'000);
+  ex.inject(channels::kOdometry, odom(100'000, 1, 0, 0), 100'000);
+  ex.run_until(200'000);
+  ASSERT_TRUE(s.sp.active);
+  ex.inject(channels::kPath, path(6, {}), 210'000);
+  ex.inject(channels::kOdometry, odom(250'000, 1.1, 0, 0), 250'000);
+  ex.run_until(300'000);
+  EXPECT_EQ(node.counter_value("rejected.path.invalid"), 0);
+  EXPECT_EQ(node.rejected(), 0);
+  EXPECT_FALSE(node.follower().has_path());
+  EXPECT_FALSE(s.sp.active);
+  EXPECT_EQ(s.pr.path_id, -1);
+}
+
+// ---- Malformed input, table-driven. A reference run (odometry at 20 Hz moving along a path,
+// the mode) and, per case, the same run with one malformed message added at 0.525 s: it is
+// counted (its counter and rejected() both 1) and every message on the node's output channels
+// is byte-identical to the reference run's.
+constexpr TimeUs kBadAt = 525'000;
+constexpr TimeUs kEnd = 1'500'000;
+constexpr double kPi = 3.14159265358979323846;
+
+using Outputs = std::vector<std::pair<std::string, std::vector<std::uint8_t>>>;
+using Inject = std::function<void(LockstepExecutor&)>;
+
+template <class Msg>
+Inject bad(const std::string& channel, Msg m) {
+  return [channel, m](LockstepExecutor& ex) { ex.inject(channel, m, kBadAt); };
+}
+
+odometry_t moving(TimeUs t) {
+  auto o = odom(t, 0.8 * to_seconds(t), 0.3, 0.1);
+  o.velocity[0] = 0.8;
+  return o;
+}
+
+Outputs run_with(const Inject& extra, std::int64_t* counted, const std::string& counter,
+                 std::int64_t* rejected) {
+  PathFollowerNode node(params());
+  LockstepExecutor ex(0);
+  ex.add(node);
+  const std::set<std::string> outs = {channels::kVelocitySetpoint, channels::kPathProgress,
+                                      channels::kStationTarget};
+  Outputs o;
+  ex.observe([&](const std::string& ch, const std::uint8_t* d, int n, TimeUs) {
+    if (outs.count(ch)) o.emplace_back(ch, std::vector<std::uint8_t>(d, d + n));
+  });
+  controller_mode_t m{};
+  m.mode = controller_mode_t::WAYPOINTING;
+  m.source = "test";
+  ex.inject(channels::kMode, m, 0);
+  ex.inject(channels::kPath, path(3, {{0, 0}, {20, 0}, {20, 20}}), 0);
+  for (TimeUs t = 0; t < kEnd; t += 50'000) ex.inject(channels::kOdometry, moving(t), t);
+  if (extra) extra(ex);
+  ex.run_until(kEnd);
+  if (counted) *counted = node.counter_value(counter);
+  if (rejected) *rejected = node.rejected();
+  return o;
+}
+
+TEST(PathFollowerNode, MalformedInputOfEachTypeIsDroppedCountedAndChangesNothing) {
+  const Outputs ref = run_with(nullptr, nullptr, "", nullptr);
+  velocity_setpoint_t last{};
+  for (const auto& [ch, bytes] : ref)
+    if (ch == channels::kVelocitySetpoint)
+      last.decode(bytes.data(), 0, static_cast<int>(bytes.size()));
+  ASSERT_TRUE(last.active);  // the reference is following the path
+  ASSERT_GT(last.velocity[0], 0.5);
+
+  struct BadCase {
+    std::string what;
+    Inject inject;
+    std::string counter;
+  };
+  auto o = [](auto f) {
+    odometry_t m = moving(kBadAt);
+    m.position[1] = 5.0;  // accepted, it would move the vehicle off the path
+    f(m);
+    return bad(channels::kOdometry, m);
+  };
+  auto wp = [](auto f) {
+    path_t p = path(9, {{0, 0}, {0, 20}});  // a new path id: accepted, it would restart
+    f(p);
+    return bad(channels::kPath, p);
+  };
+  controller_mode_t bad_mode{};
+  bad_mode.mode = 5;
+  bad_mode.is_translation = true;
+  bad_mode.source = "test";
+  const std::vector<BadCase> cases = {
+      {"odometry position NaN", o([](odometry_t& m) { m.position[0] = NAN; }),
+       "rejected.odometry.nan"},
+      {"odometry velocity inf", o([](odometry_t& m) { m.velocity[1] = -INFINITY; }),
+       "rejected.odometry.nan"},
+      {"odometry yaw 4 rad", o([](odometry_t& m) { m.orientation[2] = 4.0; }),
+       "rejected.odometry.range"},
+      {"odometry yaw -pi", o([](odometry_t& m) { m.orientation[2] = -kPi; }),
+       "rejected.odometry.range"},
+      {"odometry roll 3.5 rad", o([](odometry_t& m) { m.orientation[0] = 3.5; }),
+       "rejected.odometry.range"},
+      {"odometry pose covariance of 9", o([](odometry_t& m) {
+         m.n_pose_cov = 9;
+         m.pose_covariance.assign(9, 0.01);
+       }),
+       "rejected.odometry.range"},
+      {"odometry pose covariance NaN", o([](odometry_t& m) {
+         m.n_pose_cov = 36;
+         m.pose_covariance.assign(36, 0.01);
+         m.pose_covariance[0] = NAN;
+       }),
+       "rejected.odometry.nan"},
+      {"path waypoint NaN", wp([](path_t& p) { p.waypoints[1].position[1] = NAN; }),
+       "rejected.path.invalid"},
+      {"path waypoint 2e6 m", wp([](path_t& p) { p.waypoints[1].position[0] = 2e6; }),
+       "rejected.path.invalid"},
+      {"path heading NaN", wp([](path_t& p) {
+         p.waypoints[1].has_heading = true;
+         p.waypoints[1].heading = NAN;
+       }),
+       "rejected.path.invalid"},
+      {"path of 10001 waypoints", wp([](path_t& p) {
+         p.waypoints.resize(10001);
+         p.n_waypoints = 10001;
+       }),
+       "rejected.path.invalid"},
+      {"mode unknown", bad(channels::kMode, bad_mode), "rejected.mode.invalid"},
+  };
+  for (const auto& c : cases) {
+    SCOPED_TRACE(c.what);
+    std::int64_t counted = -1, rejected = -1;
+    const Outputs got = run_with(c.inject, &counted, c.counter, &rejected);
+    EXPECT_EQ(counted, 1);
+    EXPECT_EQ(rejected, 1);
+    ASSERT_EQ(got.size(), ref.size());
+    for (std::size_t i = 0; i < ref.size(); ++i) {
+      ASSERT_EQ(got[i], ref[i]) << "output " << i << " on " << ref[i].first << " differs";
+    }
+  }
 }
 
 }  // namespace
