@@ -351,8 +351,9 @@ std::array<double, 4> seed004_table(double fx, double fy, double t, double k) {
   return {-fy + fx - t, fy + fx + t, k * fy + fx - t, -k * fy + fx + t};  // LF RF LR RR
 }
 // Its text: "the commands to all thrusters are scaled so that the maximum magnitude is 1.0, but
-// the ratios of all thruster commands are kept": always.
-std::array<double, 4> seed004_text(double fx, double fy, double t, double k) {
+// the ratios of all thruster commands are kept". Word for word: always (any non-zero demand is
+// full throttle).
+std::array<double, 4> seed004_literal(double fx, double fy, double t, double k) {
   auto c = seed004_table(fx, fy, t, k);
   double mx = 0;
   for (double v : c) mx = std::max(mx, std::abs(v));
@@ -360,8 +361,9 @@ std::array<double, 4> seed004_text(double fx, double fy, double t, double k) {
     for (double& v : c) v /= mx;
   return c;
 }
-// Its code: divides only when the largest exceeds 1.0.
-std::array<double, 4> seed004_code(double fx, double fy, double t, double k) {
+// What the text means (a cap that keeps the ratios; also its code): divide only when the
+// largest exceeds 1.0.
+std::array<double, 4> seed004_text(double fx, double fy, double t, double k) {
   auto c = seed004_table(fx, fy, t, k);
   double mx = 0;
   for (double v : c) mx = std::max(mx, std::abs(v));
@@ -380,7 +382,7 @@ Wrench stick_from_flu(double fx, double fy, double t) {  // FRD: Y = -Fy, N = -T
 TEST(Seed004, TableCommandsAreTheSeedsTextOverAGrid) {
   const Allocator a(preset("seed004_usv_x_table"));
   AllocationResult r;
-  int cases = 0, scaled_up = 0, scaled_down = 0;
+  int cases = 0, scaled_down = 0, proportional = 0;
   for (int ix = -10; ix <= 10; ++ix)
     for (int iy = -10; iy <= 10; ++iy)
       for (int it = -10; it <= 10; ++it) {
@@ -392,34 +394,39 @@ TEST(Seed004, TableCommandsAreTheSeedsTextOverAGrid) {
         double mx = 0;
         for (double v : raw) mx = std::max(mx, std::abs(v));
         if (mx > 1) ++scaled_down;
-        if (mx > 0 && mx < 1) ++scaled_up;
+        if (mx > 0 && mx < 1) ++proportional;
         ++cases;
       }
   EXPECT_EQ(cases, 21 * 21 * 21);
   EXPECT_GT(scaled_down, 3000);
-  EXPECT_GT(scaled_up, 100);
+  EXPECT_GT(proportional, 100);
 }
 
-TEST(Seed004, TextScalesAlwaysWhereItsCodeScalesOnlyAboveOne) {
-  // A tenth of full surge: the code sends 0.1 to every motor, the text's "scaled so that the
-  // maximum magnitude is 1.0" sends 1.0; Tiller follows the text (normalise: always).
-  const auto code = seed004_code(0.1, 0, 0, 0.6), text = seed004_text(0.1, 0, 0, 0.6);
-  EXPECT_NEAR(code[0], 0.1, 1e-15);
-  EXPECT_NEAR(text[0], 1.0, 1e-15);
+TEST(Seed004, NormalisationIsACapNotAScaleUp) {
+  // A tenth of full surge: the seed's "scaled so that the maximum magnitude is 1.0" read word for
+  // word would send 1.0 to every motor (a PID's small correction = full throttle); read as the
+  // cap it is (and as its code does) it sends 0.1. Tiller's preset: normalise: above_one.
+  const auto literal = seed004_literal(0.1, 0, 0, 0.6), text = seed004_text(0.1, 0, 0, 0.6);
+  EXPECT_NEAR(literal[0], 1.0, 1e-15);
+  EXPECT_NEAR(text[0], 0.1, 1e-15);
   const Allocator a(preset("seed004_usv_x_table"));
   AllocationResult r;
   ASSERT_TRUE(a.allocate_manual(stick_from_flu(0.1, 0, 0), r));
-  for (std::size_t i = 0; i < 4; ++i) EXPECT_NEAR(r.command[i], 1.0, 1e-12);
-  EXPECT_EQ(r.scale, 1.0);  // a scale-up is not a reduction
+  for (std::size_t i = 0; i < 4; ++i) EXPECT_NEAR(r.command[i], 0.1, 1e-12);
+  // Over 1: divided by the largest, ratios kept.
+  ASSERT_TRUE(a.allocate_manual(stick_from_flu(1.0, 1.0, 0), r));
+  const auto big = seed004_text(1.0, 1.0, 0, 0.6);
+  for (std::size_t i = 0; i < 4; ++i) EXPECT_NEAR(r.command[i], big[i], 1e-12);
   // Zero stays zero (nothing to normalise).
   ASSERT_TRUE(a.allocate_manual(Wrench::Zero(), r));
   for (std::size_t i = 0; i < 4; ++i) EXPECT_EQ(r.command[i], 0.0);
-  // The same file with `normalise: above_one` is the code's behaviour.
+  // `normalise: always` is the word-for-word reading, available for comparison.
   Vehicle v = preset("seed004_usv_x_table");
-  v.allocation.normalise_always = false;
+  v.allocation.normalise_always = true;
   const Allocator b(v);
   ASSERT_TRUE(b.allocate_manual(stick_from_flu(0.1, 0, 0), r));
-  for (std::size_t i = 0; i < 4; ++i) EXPECT_NEAR(r.command[i], 0.1, 1e-12);
+  for (std::size_t i = 0; i < 4; ++i) EXPECT_NEAR(r.command[i], 1.0, 1e-12);
+  EXPECT_EQ(r.scale, 1.0);  // a scale-up is not a reduction
 }
 
 TEST(Seed004, RatioKeepingNormalisationKeepsCommandRatiosNotThrustRatios) {

@@ -263,7 +263,14 @@ TEST(VehicleLoader, ReadsAMixingTable) {
   EXPECT_EQ(s1.allocation.matrix_axes, (std::vector<int>{0, 1, 2, 4, 5}));
   const Vehicle s4 = load_vehicle_file(kVehicles + "seed004_usv_x_table.yaml");
   EXPECT_TRUE(s4.allocation.matrix_commands);
-  EXPECT_TRUE(s4.allocation.normalise_always);
+  EXPECT_FALSE(s4.allocation.normalise_always);  // the seed's "max magnitude 1.0" is a cap
+  // `normalise: always` and `units: thrust_fraction` are read too.
+  std::string t = kTable;
+  t.replace(t.find("normalise: above_one"), 20, "normalise: always");
+  t.replace(t.find("units: command"), 14, "units: thrust_fraction");
+  const Vehicle w = parse(t);
+  EXPECT_TRUE(w.allocation.normalise_always);
+  EXPECT_FALSE(w.allocation.matrix_commands);
 }
 
 TEST(VehicleLoader, RefusesBadMixingRowsNamingFileKeyAndExpectation) {
