@@ -92,9 +92,11 @@ void TeleopNode::on_arm_state(const arm_state_t& a, TimeUs now) {
 }
 
 void TeleopNode::process(const joystick_state_t& s, TimeUs now) {
+  // Only the first n_axes / n_buttons entries count: a message decoded into a reused object
+  // keeps the previous arrays when its count is 0 (lcm-gen resizes only for a count > 0).
   if (s.n_axes < 0 || s.n_axes > 64 || s.n_buttons < 0 || s.n_buttons > 128 ||
-      static_cast<int>(s.axes.size()) != s.n_axes ||
-      static_cast<int>(s.buttons.size()) != s.n_buttons) {
+      static_cast<int>(s.axes.size()) < s.n_axes ||
+      static_cast<int>(s.buttons.size()) < s.n_buttons) {
     reject(*rejected_state_);
     return;
   }
@@ -102,9 +104,9 @@ void TeleopNode::process(const joystick_state_t& s, TimeUs now) {
     js_msg_.utime = now;
     js_msg_.connected = s.connected;
     js_msg_.n_axes = s.n_axes;
-    js_msg_.axes.assign(s.axes.begin(), s.axes.end());
+    js_msg_.axes.assign(s.axes.begin(), s.axes.begin() + s.n_axes);
     js_msg_.n_buttons = s.n_buttons;
-    js_msg_.buttons.assign(s.buttons.begin(), s.buttons.end());
+    js_msg_.buttons.assign(s.buttons.begin(), s.buttons.begin() + s.n_buttons);
     if (!s.connected) std::fill(js_msg_.axes.begin(), js_msg_.axes.end(), 0);
     if (!s.connected) std::fill(js_msg_.buttons.begin(), js_msg_.buttons.end(), false);
   }
@@ -128,12 +130,12 @@ void TeleopNode::apply_state(const joystick_state_t& s, TimeUs now) {
   }
 
   const std::size_t nb = static_cast<std::size_t>(s.n_buttons);
-  raw_axes_.assign(s.axes.begin(), s.axes.end());
+  raw_axes_.assign(s.axes.begin(), s.axes.begin() + s.n_axes);
   if (!connected_) {
     connected_ = true;
     centred_ = false;
     holding_ = false;
-    raw_buttons_.assign(s.buttons.begin(), s.buttons.end());
+    raw_buttons_.assign(s.buttons.begin(), s.buttons.begin() + s.n_buttons);
     stable_ = raw_buttons_;
     inhibited_ = raw_buttons_;  // held at connection: not a press
     raw_since_.assign(nb, now);

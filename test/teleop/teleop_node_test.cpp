@@ -395,6 +395,40 @@ TEST(Input, MalformedStateRejected) {
   EXPECT_FALSE(r.node.connected());
 }
 
+TEST(Input, ReusedDecodeTargetWithACountOfZeroIsNotMalformed) {
+  // The replay path decodes every TILLER_JOYSTICK into one reused object; lcm-gen leaves the
+  // arrays of the previous message in place when a count is 0, so only the first n entries may
+  // count. A state with 0 axes after one with 6 is a valid (empty) state, not a malformed one.
+  TeleopParams p = load_teleop_file(config_path("extreme3dpro_seed000.yaml"));
+  TeleopNode node(p, TeleopNode::Input::replay);
+  test::CollectBus bus;
+  node.attach(&bus);
+  joystick_state_t in{};
+  in.device = "test";
+  in.connected = true;
+  in.n_axes = 6;
+  in.axes = {0, -32767, 0, 0, 0, 0};
+  in.n_buttons = 12;
+  in.buttons.assign(12, false);
+  joystick_state_t reused{};
+  auto deliver = [&](TimeUs t) {
+    std::vector<std::uint8_t> buf(static_cast<std::size_t>(in.getEncodedSize()));
+    in.encode(buf.data(), 0, static_cast<int>(buf.size()));
+    ASSERT_EQ(reused.decode(buf.data(), 0, static_cast<int>(buf.size())),
+              static_cast<int>(buf.size()));
+    node.deliver(channels::kJoystick, buf.data(), static_cast<int>(buf.size()), t);
+  };
+  deliver(0);
+  in.n_axes = 0;
+  in.axes.clear();
+  in.n_buttons = 0;
+  in.buttons.clear();
+  deliver(10'000);
+  EXPECT_EQ(reused.axes.size(), 6u);  // what lcm-gen does: the stale array stays
+  EXPECT_EQ(node.counter_value("rejected.joystick.malformed"), 0);
+  node.attach(nullptr);
+}
+
 TEST(Replay, SameOutputsFromTheRecordedJoystickChannel) {
   const TeleopParams p = load_teleop_file(config_path("extreme3dpro_seed000.yaml"));
   Rig live(p);
