@@ -37,8 +37,10 @@ rout=$(cd /tmp && "$build/bin/tiller-replay" "$log" --process path-follower --co
 echo "$rout" | grep -E "DIFFERENT|first difference|^tiller-replay"
 [ $rrc -eq 1 ] || { echo "FAIL: a changed gain gave exit $rrc, expected 1 (FAIL)"; fail=1; }
 echo "$rout" | grep -q "TILLER_VELOCITY_SETPOINT *DIFFERENT" || { echo "FAIL: the setpoint difference is not reported"; fail=1; }
-echo "$rout" | grep -Eq "first difference: message [0-9]+ at t=[0-9.]+ s, velocity\[0\]: old 1.5, new 1.6" ||
-  { echo "FAIL: the first difference (time, field, old 1.5, new 1.6) is not reported"; fail=1; }
+# The new value is the changed gain; the old one is usually 1.5, but on a loaded machine the
+# first differing message can be one the live run published before its first odometry (0).
+echo "$rout" | grep -Eq "first difference: message [0-9]+ at t=[0-9.]+ s, velocity\[0\]: old [-0-9.e]+, new 1.6" ||
+  { echo "FAIL: the first difference (time, field, old, new 1.6) is not reported"; fail=1; }
 
 # Clean stop: no process needed SIGKILL or crashed while stopping.
 echo "$out" | grep -E "needed SIGKILL|killed by SIG(SEGV|ABRT)" && { echo "FAIL: unclean stop"; fail=1; }
