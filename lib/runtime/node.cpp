@@ -92,8 +92,9 @@ void Node::deliver(std::string_view channel, const void* data, int size, TimeUs 
   try {
     ok = sub->dispatch(data, size, now);
   } catch (const std::exception& e) {
-    // Generated decoders do not throw, and handlers must not; if one does, the message is
-    // dropped and counted rather than taking the process down.
+    // Handlers must not throw (a throwing decoder is caught in dispatch() and counted as
+    // malformed); if one does, the message is dropped and counted rather than taking the
+    // process down, and the heartbeat latches FAULT.
     if (!exception_message_) exception_message_ = &counter("exception.message");
     reject(*exception_message_);
     latch_fault(e.what());

@@ -149,7 +149,15 @@ class Node {
     void (Derived::*handler)(const Msg&, TimeUs);
     Msg msg;
     bool dispatch(const void* data, int size, TimeUs now) override {
-      if (msg.decode(data, 0, size) != size) return false;
+      // lcm-gen's decoders throw (std::length_error from a resize) on a negative array count:
+      // that is a malformed packet like any other, not a fault of this node.
+      int n = -1;
+      try {
+        n = msg.decode(data, 0, size);
+      } catch (const std::exception&) {
+        return false;
+      }
+      if (n != size) return false;
       (self->*handler)(msg, now);
       return true;
     }

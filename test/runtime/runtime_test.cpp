@@ -213,6 +213,36 @@ class Throwing : public Node {
   int ticks = 0;
 };
 
+TEST(Node, NegativeArrayCountIsMalformedNotAFault) {
+  // lcm-gen's decode resizes an array to its count and throws on a negative one: such a packet
+  // is counted as malformed, the node does not latch FAULT, and the next good message is used.
+  odometry_t a{};
+  a.position[0] = 0.25;
+  odometry_t b = a;
+  b.n_pose_cov = 1;
+  b.pose_covariance = {0.0};
+  std::vector<std::uint8_t> ea(static_cast<std::size_t>(a.getEncodedSize())),
+      eb(static_cast<std::size_t>(b.getEncodedSize()));
+  ASSERT_GT(a.encode(ea.data(), 0, static_cast<int>(ea.size())), 0);
+  ASSERT_GT(b.encode(eb.data(), 0, static_cast<int>(eb.size())), 0);
+  std::size_t k = 0;  // the count's last (big-endian low) byte: the first byte that differs
+  while (k < ea.size() && ea[k] == eb[k]) ++k;
+  ASSERT_GE(k, 3u);
+  for (std::size_t i = k - 3; i <= k; ++i) ea[i] = 0xFF;  // n_pose_cov = -1
+  ToyController c;
+  LockstepExecutor ex(0);
+  ex.add(c);
+  ex.inject(Event{"TILLER_ODOMETRY", 10'000, ea});
+  odometry_t good{};
+  good.position[0] = 0.5;
+  ex.inject("TILLER_ODOMETRY", good, 20'000);
+  ex.run_until(30'000);
+  EXPECT_EQ(c.counter_value("malformed.TILLER_ODOMETRY"), 1);
+  EXPECT_EQ(c.counter_value("exception.message"), 0);
+  EXPECT_FALSE(c.faulted());
+  EXPECT_DOUBLE_EQ(c.x_, 0.5);
+}
+
 TEST(Node, ExceptionsAreCountedLatchedAsFaultAndDoNotStopTheExecutor) {
   Throwing t;
   ToyPlant p;
