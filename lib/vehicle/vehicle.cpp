@@ -171,9 +171,14 @@ AllocationSpec load_allocation(const config::Value& a, const Vehicle& v) {
       s.matrix_axes = {0, 1, 5};
       s.matrix = Eigen::MatrixXd::Zero(n, 3);
       const auto table = x_drive_table(k);
+      std::set<int> used;
       for (int r = 0; r < 4; ++r) {
-        const int idx = v.index_of(names[static_cast<std::size_t>(r)].as_string());
-        if (idx < 0) names[static_cast<std::size_t>(r)].fail("a thruster name of this vehicle");
+        const auto& name = names[static_cast<std::size_t>(r)];
+        const int idx = v.index_of(name.as_string());
+        if (idx < 0) name.fail("a thruster name of this vehicle");
+        if (!used.insert(idx).second)
+          name.fail("each of the vehicle's 4 thrusters once ('" + name.as_string() +
+                    "' is repeated)");
         s.matrix.row(idx) = table.row(r);
       }
     } else {

@@ -361,8 +361,7 @@ std::array<double, 4> seed004_literal(double fx, double fy, double t, double k) 
     for (double& v : c) v /= mx;
   return c;
 }
-// What the text means (a cap that keeps the ratios; also its code): divide only when the
-// largest exceeds 1.0.
+// What the text means (a cap that keeps the ratios): divide only when the largest exceeds 1.0.
 std::array<double, 4> seed004_text(double fx, double fy, double t, double k) {
   auto c = seed004_table(fx, fy, t, k);
   double mx = 0;
@@ -405,7 +404,7 @@ TEST(Seed004, TableCommandsAreTheSeedsTextOverAGrid) {
 TEST(Seed004, NormalisationIsACapNotAScaleUp) {
   // A tenth of full surge: the seed's "scaled so that the maximum magnitude is 1.0" read word for
   // word would send 1.0 to every motor (a PID's small correction = full throttle); read as the
-  // cap it is (and as its code does) it sends 0.1. Tiller's preset: normalise: above_one.
+  // cap it is, it sends 0.1. Tiller's preset: normalise: above_one.
   const auto literal = seed004_literal(0.1, 0, 0, 0.6), text = seed004_text(0.1, 0, 0, 0.6);
   EXPECT_NEAR(literal[0], 1.0, 1e-15);
   EXPECT_NEAR(text[0], 0.1, 1e-15);

@@ -4,7 +4,9 @@
 #include <gtest/gtest.h>
 
 #include <cmath>
+#include <fstream>
 #include <functional>
+#include <iterator>
 #include <string>
 
 #include "vehicle/thrust_curve.hpp"
@@ -296,6 +298,18 @@ TEST(VehicleLoader, RefusesBadMixingRowsNamingFileKeyAndExpectation) {
   EXPECT_NE(e.find("veh.yaml"), std::string::npos) << e;
   EXPECT_NE(e.find("allocation.mixing.rows.a"), std::string::npos) << e;
   EXPECT_NE(e.find("2 numbers"), std::string::npos) << e;
+  // An X-drive list naming a thruster twice (another left without a row) is refused.
+  {
+    std::ifstream f(kVehicles + "seed004_usv_x_table.yaml");
+    std::string x((std::istreambuf_iterator<char>(f)), std::istreambuf_iterator<char>());
+    const std::string list = "thrusters: [LF, RF, LR, RR]";
+    ASSERT_NE(x.find(list), std::string::npos);
+    x.replace(x.find(list), list.size(), "thrusters: [LF, RF, LR, LR]");
+    e = error_of([&] { parse(x); });
+    EXPECT_NE(e.find("veh.yaml"), std::string::npos) << e;
+    EXPECT_NE(e.find("x_drive.thrusters[3]"), std::string::npos) << e;
+    EXPECT_NE(e.find("'LR' is repeated"), std::string::npos) << e;
+  }
   // Units and normalisation must be said.
   e = err("    units: command\n", "");
   EXPECT_NE(e.find("allocation.mixing.units"), std::string::npos) << e;
