@@ -1,10 +1,13 @@
 #!/bin/sh
-# tools/spy under Xvfb, inside the test's own network namespace, with a live Tiller peer
-# (test/runtime's runtime_live_peer publishes TILLER_HEARTBEAT_* and TILLER_WRENCH_VELOCITY):
+# tools/spy under Xvfb, inside the test's own network namespace, with live Tiller processes
+# (test/runtime's runtime_live_peer publishes TILLER_HEARTBEAT_* and TILLER_WRENCH_VELOCITY;
+# tiller-sim publishes TILLER_ODOMETRY, tiller-mixer TILLER_THRUSTER_COMMAND (neutral, disarmed)
+# and TILLER_ALLOCATION_STATUS):
 #  1. lcm-spy starts on Java 17 (no "Unrecognized option") and finds every Tiller type in the jar;
 #  2. lcm-spy's own channel table (lcm.spy.Spy, read by test/tools/SpyCheck.java in a second
 #     lcm-spy window with the classpath tools/spy --print-env gives) lists a TILLER_* channel
-#     and decoded its messages with a Tiller class (not only "types found");
+#     and decoded its messages with a Tiller class (not only "types found"), and so are the
+#     simulator's odometry and the mixer's thruster commands and allocation status;
 #  3. a screenshot is kept in the build tree (test-out/spy/spy.png).
 # Fails (does not skip) when Java, lcm-spy, Xvfb or javac is missing. Args: SOURCE_DIR BUILD_DIR
 set -u
@@ -15,14 +18,28 @@ for tool in java javac lcm-spy Xvfb import; do
 done
 [ -f "$build/tiller-lcmtypes.jar" ] || { echo "FAIL: $build/tiller-lcmtypes.jar missing (build the lcmtypes jar)"; exit 1; }
 n_types=$(ls "$src"/lcmtypes/*.lcm | wc -l)
-xv=""; peer=""; spy=""
-trap 'kill $xv $peer $spy 2>/dev/null || true' EXIT
-Xvfb :97 -screen 0 1024x700x24 >"$out/xvfb.log" 2>&1 &
+xv=""; peer=""; spy=""; sim=""; mixer=""
+trap 'kill $xv $peer $spy $sim $mixer 2>/dev/null || true' EXIT
+# Xvfb picks a free display itself (-displayfd) and writes its number once it accepts clients,
+# so a display left locked by an earlier run cannot collide with this one.
+: > "$out/display"
+Xvfb -displayfd 3 -screen 0 1024x700x24 3>"$out/display" >"$out/xvfb.log" 2>&1 &
 xv=$!
-sleep 1
+for i in $(seq 1 40); do
+  [ -s "$out/display" ] && break
+  sleep 0.25
+done
+[ -s "$out/display" ] || { cat "$out/xvfb.log"; echo "FAIL: Xvfb did not start"; exit 1; }
+DISPLAY=":$(head -n 1 "$out/display")"
+export DISPLAY
 "$build/tests/runtime_live_peer" "udpm://239.255.76.67:7667?ttl=0" &
 peer=$!
-DISPLAY=:97 TILLER_TYPES_JAR="$build/tiller-lcmtypes.jar" "$src/tools/spy" >"$out/spy.log" 2>&1 &
+"$build/bin/tiller-sim" --lcm-url "udpm://239.255.76.67:7667?ttl=0" >"$out/sim.log" 2>&1 &
+sim=$!
+"$build/bin/tiller-mixer" --config "$src/config/mixer/seed004_usv_x.yaml" \
+  --lcm-url "udpm://239.255.76.67:7667?ttl=0" >"$out/mixer.log" 2>&1 &
+mixer=$!
+TILLER_TYPES_JAR="$build/tiller-lcmtypes.jar" "$src/tools/spy" >"$out/spy.log" 2>&1 &
 spy=$!
 for i in $(seq 1 40); do
   grep -q "Found .* LCM types" "$out/spy.log" 2>/dev/null && break
@@ -34,15 +51,26 @@ javac -cp "$(sed -n 's/.* -cp \([^ ]*\) .*/\1/p' "$(command -v lcm-spy)")" -d "$
   { cat "$out/javac.log"; echo "FAIL: SpyCheck.java does not compile"; exit 1; }
 spy_cp=$(sed -n 's/.* -cp \([^ ]*\) .*/\1/p' "$(command -v lcm-spy)")
 env_lines=$(TILLER_TYPES_JAR="$build/tiller-lcmtypes.jar" "$src/tools/spy" --print-env)
-check=$(env DISPLAY=:97 "CLASSPATH=$(echo "$env_lines" | sed -n 's/^CLASSPATH=//p')" \
+check=$(env "CLASSPATH=$(echo "$env_lines" | sed -n 's/^CLASSPATH=//p')" \
   "JAVA_TOOL_OPTIONS=$(echo "$env_lines" | sed -n 's/^JAVA_TOOL_OPTIONS=//p')" \
   java -cp "$spy_cp:$out" SpyCheck "udpm://239.255.76.67:7667?ttl=0" TILLER_ 15 2>&1); rc=$?
 echo "$check" | grep -v "^Picked up JAVA_TOOL_OPTIONS"
 [ $rc -eq 0 ] || { echo "FAIL: lcm-spy did not list a decoded TILLER_* channel"; fail=1; }
 echo "$check" | grep -Eq "^lcm-spy lists TILLER_[A-Z_]+: decoded as tiller\.[a-z_]+_t, [1-9][0-9]* received, 0 decode errors" ||
   { echo "FAIL: no TILLER_* channel decoded as a tiller.*_t class"; fail=1; }
+# The simulator's odometry and the mixer's output, each decoded by lcm-spy with its class.
+for pair in TILLER_ODOMETRY:odometry_t TILLER_THRUSTER_COMMAND:thruster_command_t \
+            TILLER_ALLOCATION_STATUS:allocation_status_t; do
+  ch=${pair%%:*}; cls=${pair#*:}
+  c=$(env "CLASSPATH=$(echo "$env_lines" | sed -n 's/^CLASSPATH=//p')" \
+    "JAVA_TOOL_OPTIONS=$(echo "$env_lines" | sed -n 's/^JAVA_TOOL_OPTIONS=//p')" \
+    java -cp "$spy_cp:$out" SpyCheck "udpm://239.255.76.67:7667?ttl=0" "$ch" 15 2>&1)
+  echo "$c" | grep "^lcm-spy lists $ch:"
+  echo "$c" | grep -Eq "^lcm-spy lists $ch: decoded as tiller\.$cls, [1-9][0-9]* received, 0 decode errors" ||
+    { echo "FAIL: lcm-spy did not decode $ch as tiller.$cls"; cat "$out/sim.log" "$out/mixer.log"; fail=1; }
+done
 sleep 1
-DISPLAY=:97 import -window root "$out/spy.png" || true
+import -window root "$out/spy.png" || true
 cat "$out/spy.log"
 found=$(sed -n 's/.*Found \([0-9]*\) LCM types.*/\1/p' "$out/spy.log")
 # waypoint_t is nested only, but lcm-spy lists it too: every .lcm file is a type.
@@ -50,5 +78,5 @@ found=$(sed -n 's/.*Found \([0-9]*\) LCM types.*/\1/p' "$out/spy.log")
 grep -q "Unrecognized option" "$out/spy.log" && { echo "FAIL: Java rejected an lcm-spy option"; fail=1; }
 kill -0 $spy 2>/dev/null || { echo "FAIL: lcm-spy (tools/spy) exited"; fail=1; }
 [ -s "$out/spy.png" ] || { echo "FAIL: no screenshot"; fail=1; }
-[ $fail -eq 0 ] && echo "PASS: lcm-spy finds $found Tiller types and decodes a live TILLER_* channel; screenshot $out/spy.png"
+[ $fail -eq 0 ] && echo "PASS: lcm-spy finds $found Tiller types and decodes live TILLER_* channels (odometry, thruster commands, allocation status); screenshot $out/spy.png"
 exit $fail
