@@ -74,6 +74,13 @@ void JoystickPump::handle(JsDevice::Status s, TimeUs now) {
     case JsDevice::Status::changed:
       break;
   }
+  if (node_.note_bad_js_events(dev_.parser().bad_events()) && !warned_bad_events_) {
+    warned_bad_events_ = true;
+    std::fprintf(stderr,
+                 "tiller-teleop: dropping malformed js_event records from %s (unknown type or "
+                 "number out of range; counted as rejected.js_event.bad)\n",
+                 dev_.description().c_str());
+  }
   node_.feed(dev_.state(), now);
 }
 

@@ -27,6 +27,7 @@ class JoystickPump {
   int timer_fd_ = -1;
   int watched_fd_ = -1;
   std::string last_error_;
+  bool warned_bad_events_ = false;  // said once on stderr
 };
 
 }  // namespace tiller

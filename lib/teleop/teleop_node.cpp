@@ -47,6 +47,7 @@ TeleopNode::TeleopNode(TeleopParams params, Input input)
   advertise<controller_mode_t>(channels::kMode);
   advertise<arm_request_t>(channels::kArmRequest);
   rejected_state_ = &counter("rejected.joystick.malformed");
+  bad_js_events_ = &counter("rejected.js_event.bad");
   rejected_odom_ = &counter("rejected.odometry.nan");
   disconnects_ = &counter("joystick.disconnects");
   presses_ = &counter("buttons.presses");
@@ -62,6 +63,12 @@ TeleopNode::TeleopNode(TeleopParams params, Input input)
 
 void TeleopNode::feed(const joystick_state_t& state, TimeUs now) {
   process(state, now);
+}
+
+bool TeleopNode::note_bad_js_events(std::int64_t total) {
+  const bool grew = total > *bad_js_events_;
+  while (*bad_js_events_ < total) reject(*bad_js_events_);
+  return grew;
 }
 
 void TeleopNode::on_joystick(const joystick_state_t& s, TimeUs now) {

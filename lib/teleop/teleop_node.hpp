@@ -46,6 +46,9 @@ class TeleopNode : public Node {
 
   // Live mode: a new state read from the device (or a disconnection) at time `now`.
   void feed(const joystick_state_t& state, TimeUs now);
+  // Device mode: the js_event records the device parser has dropped so far (unknown type, axis or
+  // button number out of range), counted as rejected.js_event.bad. Returns true when it grew.
+  bool note_bad_js_events(std::int64_t total);
 
   // For tests and the heartbeat.
   bool connected() const { return connected_; }
@@ -99,6 +102,7 @@ class TeleopNode : public Node {
   manual_demand_t demand_msg_;
   manual_velocity_cmd_t velocity_msg_;
   std::int64_t* rejected_state_;
+  std::int64_t* bad_js_events_;
   std::int64_t* rejected_odom_;
   std::int64_t* rejected_odom_range_ = nullptr;  // created on first use
   std::int64_t* disconnects_;

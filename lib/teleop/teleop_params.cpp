@@ -61,7 +61,34 @@ TeleopParams load_teleop(const config::Value& root) {
     m.gain = a.number_or("gain", 1.0, {0.0, 1.0});
     p.axes.push_back(m);
   }
+  // Every button does one thing: a press runs every function mapped to it, so a button shared
+  // by, say, gain_up and disarm would disarm in flight. Claims in order: the buttons section,
+  // then button_axes; a repeat names the later key and the earlier one.
+  struct Claim {
+    int button;
+    std::string key;
+    config::Value where;
+  };
+  std::vector<Claim> claims;
+  if (auto b = root.find("buttons")) {
+    struct Slot {
+      const char* key;
+      int* field;
+    };
+    for (const Slot& s :
+         {Slot{"arm", &p.buttons.arm}, Slot{"disarm", &p.buttons.disarm},
+          Slot{"mode_open_loop", &p.buttons.mode_open_loop},
+          Slot{"mode_closed_loop", &p.buttons.mode_closed_loop},
+          Slot{"mode_autonomous", &p.buttons.mode_autonomous},
+          Slot{"toggle_translation", &p.buttons.toggle_translation},
+          Slot{"gain_up", &p.buttons.gain_up}, Slot{"gain_down", &p.buttons.gain_down}}) {
+      *s.field = button_or(*b, s.key);
+      if (*s.field >= 0)
+        claims.push_back({*s.field, std::string("buttons.") + s.key, b->at(s.key)});
+    }
+  }
   if (auto ba = root.find("button_axes")) {
+    std::size_t i = 0;
     for (const config::Value& a : ba->items()) {
       TeleopButtonAxis m;
       m.dof = read_dof(a, "dof");
@@ -69,19 +96,17 @@ TeleopParams load_teleop(const config::Value& root) {
       m.minus = static_cast<int>(a.integer("minus", 0, 127));
       m.gain = a.number_or("gain", 1.0, {0.0, 1.0});
       p.button_axes.push_back(m);
+      const std::string k = "button_axes[" + std::to_string(i++) + "].";
+      claims.push_back({m.plus, k + "plus", a.at("plus")});
+      claims.push_back({m.minus, k + "minus", a.at("minus")});
     }
   }
-  if (auto b = root.find("buttons")) {
-    p.buttons.arm = button_or(*b, "arm");
-    p.buttons.disarm = button_or(*b, "disarm");
-    p.buttons.mode_open_loop = button_or(*b, "mode_open_loop");
-    p.buttons.mode_closed_loop = button_or(*b, "mode_closed_loop");
-    p.buttons.mode_autonomous = button_or(*b, "mode_autonomous");
-    p.buttons.toggle_translation = button_or(*b, "toggle_translation");
-    p.buttons.gain_up = button_or(*b, "gain_up");
-    p.buttons.gain_down = button_or(*b, "gain_down");
-    if (p.buttons.arm >= 0 && p.buttons.arm == p.buttons.disarm) {
-      b->at("disarm").fail("a button other than the arm button");
+  for (std::size_t i = 0; i < claims.size(); ++i) {
+    for (std::size_t j = 0; j < i; ++j) {
+      if (claims[j].button == claims[i].button) {
+        claims[i].where.fail("a button not already used by " + claims[j].key + " (button " +
+                             std::to_string(claims[i].button) + ")");
+      }
     }
   }
   if (auto g = root.find("gain")) {

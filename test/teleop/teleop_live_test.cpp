@@ -96,6 +96,21 @@ TEST(TeleopLive, FifoStickThroughTheRealProcess) {
       l, [] { return false; }, 0.2);
   EXPECT_EQ(rx.n_arm, 1);
 
+  // Malformed records (an unknown type, an axis number past 63) are dropped and counted in the
+  // heartbeat; the stick stays valid and neutral.
+  stick.write(
+      {JsEvent{0, 0, 0x04, 0}, JsEvent{0, 1000, kJsEventAxis, 70}, JsEvent{0, 0, kJsEventAxis, 1}});
+  auto bad = [&] {
+    for (std::size_t i = 0; i < rx.hb.counter_names.size(); ++i)
+      if (rx.hb.counter_names[i] == "rejected.js_event.bad") return rx.hb.counter_values[i];
+    return std::int64_t{-1};
+  };
+  ASSERT_TRUE(pump_until(
+      l, [&] { return bad() == 2; }, 2.5))
+      << bad();
+  EXPECT_TRUE(rx.demand.valid);
+  EXPECT_EQ(rx.demand.demand[0], 0.0);
+
   // Pull the plug while held forward: a neutral invalid demand follows (not waiting for a tick).
   stick.axis(1, -32767);
   ASSERT_TRUE(pump_until(

@@ -485,6 +485,20 @@ TEST(Config, ErrorsNameKeyAndExpectation) {
             std::string::npos);
   EXPECT_NE(err("device: {path: x}\n" + ok_axes + "buttons: {arm: 3, disarm: 3}\n").find("disarm"),
             std::string::npos);
+  // One function per button: a press runs everything mapped to it.
+  std::string e = err("device: {path: x}\n" + ok_axes + "buttons: {arm: 6, mode_open_loop: 6}\n");
+  EXPECT_NE(e.find("t.yaml"), std::string::npos) << e;
+  EXPECT_NE(e.find("buttons.mode_open_loop"), std::string::npos) << e;
+  EXPECT_NE(e.find("not already used by buttons.arm (button 6)"), std::string::npos) << e;
+  e = err("device: {path: x}\n" + ok_axes + "buttons: {disarm: 1, gain_up: 1}\n");
+  EXPECT_NE(e.find("not already used by buttons.disarm"), std::string::npos) << e;
+  e = err("device: {path: x}\n" + ok_axes +
+          "buttons: {disarm: 1}\nbutton_axes:\n  - {dof: pitch, plus: 1, minus: 5}\n");
+  EXPECT_NE(e.find("button_axes[0].plus"), std::string::npos) << e;
+  EXPECT_NE(e.find("buttons.disarm"), std::string::npos) << e;
+  e = err("device: {path: x}\n" + ok_axes + "button_axes:\n  - {dof: pitch, plus: 4, minus: 4}\n");
+  EXPECT_NE(e.find("button_axes[0].minus"), std::string::npos) << e;
+  EXPECT_NE(e.find("button_axes[0].plus"), std::string::npos) << e;
   EXPECT_NE(err("device: {path: x}\naxes:\n  - {axis: 1, dof: surge, sign: 1, deadzone: 0.95}\n")
                 .find("deadzone"),
             std::string::npos);
