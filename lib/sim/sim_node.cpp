@@ -106,6 +106,10 @@ SimParams load_sim_params(const config::Value& root) {
       p.current.toward_rad = wrap_pi(toward);
       p.current.speed_max_m_s = speed;
     }
+    if (gm && speed_max < speed) {
+      // The walk is saturated at speed_max: below the mean it would be a constant current.
+      c->at("speed_max_m_s").fail("a saturation >= speed_m_s (" + std::to_string(speed) + " m/s)");
+    }
     if (gm) {
       p.current.mu_per_s = mu;
       p.current.speed_std_m_s = speed_std;

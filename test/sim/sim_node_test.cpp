@@ -394,6 +394,10 @@ TEST(SimNode, ConfigFileLoadsAndBadConfigsNameTheKey) {
   expect_error(base + "current: {model: none, speed_m_s: 0.3, towards_deg: 30}\n", "towards_deg");
   expect_error(base + "current: {model: none, speed_m_s: -1}\n", "speed_m_s");
   expect_error(base + "current: {model: constant, speed_m_s: 0.3}\n", "toward_deg");
+  expect_error(base +
+                   "current: {model: gauss_markov, speed_m_s: 0.5, toward_deg: 0, mu_per_s: 0.01, "
+                   "speed_std_m_s: 0.05, direction_std_deg: 10, speed_max_m_s: 0.2}\n",
+               "speed_max_m_s");
   // The shipped file lists every key with model none; switching the model needs no other edit.
   for (const char* m : {"constant", "gauss_markov"}) {
     const auto v = config::Value::parse(base + "current: {model: " + m +
