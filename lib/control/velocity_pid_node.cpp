@@ -169,6 +169,10 @@ void VelocityPidNode::on_tick(TimeUs now) {
 
   const bool active = decision_.source == wrench_t::SOURCE_VELOCITY_PID;
   const bool entering = active && !was_active_;
+  // A mode switch with the PID in control throughout (manual closed loop <-> waypointing: the
+  // source stays VELOCITY_PID) changes whose setpoint it tracks: the integrator built on the
+  // other command must not carry over, and the output must not step to the new command.
+  const bool switching = active && was_active_ && decision_.mode != prev_mode_;
   if (!active) {
     pid_.reset();  // restart from zero on entry
     blend_.stop();
@@ -188,9 +192,19 @@ void VelocityPidNode::on_tick(TimeUs now) {
     } else if (last_wrench_.valid) {
       blend_.start(now, {last_wrench_.tau[0], last_wrench_.tau[1], last_wrench_.tau[5]});
     }
+  } else if (switching) {
+    // Both ways: the pilot's closed-loop command goes through this same PID, so there is no
+    // separate path to be authoritative through; blend from what we last published.
+    pid_.reset();
+    if (last_wrench_.valid) {
+      blend_.start(now, {last_wrench_.tau[0], last_wrench_.tau[1], last_wrench_.tau[5]});
+    } else {
+      blend_.stop();
+    }
   }
   was_active_ = active;
   prev_source_ = decision_.source;
+  prev_mode_ = decision_.mode;
 
   // 2. The wrench.
   const bool odom_ok = odom_fresh_.fresh(now);
@@ -258,9 +272,9 @@ void VelocityPidNode::on_tick(TimeUs now) {
     in.yaw_mode = setpoint_.heading_valid ? YawMode::kHeading : YawMode::kRate;
     in.yaw_value = setpoint_.heading_valid ? setpoint_.target_heading : 0.0;
   }
-  // Integrate only while in control, and not on the entry tick: the integrator is exactly zero
-  // when the PID takes over (it was reset while standing by).
-  if (!active || entering) in.dt = 0;
+  // Integrate only while in control, and not on the entry or mode-switch tick: the integrator is
+  // exactly zero when the PID takes over (it was reset while standing by, or just now).
+  if (!active || entering || switching) in.dt = 0;
   const bool alloc_ok = alloc_fresh_.fresh(now) && alloc_.source == wrench_t::SOURCE_VELOCITY_PID;
   for (int k = 0; k < 3; ++k) {
     in.freeze[static_cast<std::size_t>(k)] =

@@ -8,14 +8,16 @@
 // restarts from zero on entry, and its output is blended over blend_s from the wrench in force
 // before: the station keeper's last wrench, or what the mixer achieved with the pilot's
 // open-loop stick, so the hand-over has no thrust step), with dt from the odometry times, frozen
-// while the mixer reports the axis reduced. No fresh setpoint: wrench invalid (the mixer treats it
-// as absent). Odometry stale: neutral, or the last wrench for hold_s, per config.
-// Bad input (core/message_checks.hpp) is dropped and counted: odometry with non-finite values
-// (rejected.odometry.nan) or angles / covariance size out of contract (rejected.odometry.range);
-// a setpoint out of contract, e.g. a valid heading outside (-pi, pi] (rejected.setpoint.invalid);
-// an allocation status out of contract (rejected.allocation.invalid); a manual command, mode or
-// path progress out of contract (rejected.manual/mode/progress.invalid); a station-keep wrench
-// with NaN (rejected.wrench_station.nan).
+// while the mixer reports the axis reduced. A mode switch while it stays the source (manual
+// closed loop <-> waypointing, both VELOCITY_PID) is a hand-over too: integrators reset to
+// zero, blend from the last published wrench, dt = 0 on that tick. No fresh setpoint: wrench
+// invalid (the mixer treats it as absent). Odometry stale: neutral, or the last wrench for hold_s,
+// per config. Bad input (core/message_checks.hpp) is dropped and counted: odometry with non-finite
+// values (rejected.odometry.nan) or angles / covariance size out of contract
+// (rejected.odometry.range); a setpoint out of contract, e.g. a valid heading outside (-pi, pi]
+// (rejected.setpoint.invalid); an allocation status out of contract (rejected.allocation.invalid);
+// a manual command, mode or path progress out of contract (rejected.manual/mode/progress.invalid);
+// a station-keep wrench with NaN (rejected.wrench_station.nan).
 #pragma once
 
 #include <tiller/allocation_status_t.hpp>
@@ -79,6 +81,7 @@ class VelocityPidNode : public Node {
   Blend blend_;
   bool was_active_ = false;
   std::int8_t prev_source_ = -1;  // the arbiter's source at the previous tick
+  std::int8_t prev_mode_ = -1;    // the arbiter's mode at the previous tick
   std::int64_t *nan_odometry_, *bad_setpoint_, *bad_manual_, *bad_progress_, *bad_mode_,
       *bad_station_wrench_;
   std::int64_t *range_odometry_ = nullptr, *bad_allocation_ = nullptr;  // made on first use

@@ -6,6 +6,10 @@
 // Back to manual open loop, the stick is authoritative at once (a deliberate instant switch:
 // the pilot takes over because the autonomy is not doing what they want, so the autonomy's
 // wrench must not linger for a blend time).
+// And manual closed loop (the pilot's velocity through the velocity PID) -> waypointing ->
+// manual closed loop, with a path loaded throughout: the source is VELOCITY_PID all along, so
+// only the mode changes; each switch resets the PID's integrators and blends from the wrench it
+// last published, both ways (the pilot's closed-loop command goes through the same PID).
 #include <gtest/gtest.h>
 
 #include <tiller/allocation_status_t.hpp>
@@ -13,11 +17,14 @@
 #include <tiller/arm_request_t.hpp>
 #include <tiller/controller_mode_t.hpp>
 #include <tiller/manual_demand_t.hpp>
+#include <tiller/manual_velocity_cmd_t.hpp>
 #include <tiller/pid_terms_t.hpp>
 #include <tiller/wrench_t.hpp>
 
 #include <cmath>
 #include <cstdio>
+#include <utility>
+#include <vector>
 
 #include "control/control_config.hpp"
 #include "control/station_keep_node.hpp"
@@ -42,6 +49,7 @@ struct Change {
   bool i_zero_on_entry = false;
   bool stick_at_once = false;  // the stick is allocated at the instant of the switch
   double unblended_jump = 0;   // N: |own wrench - wrench in force| at entry (no blend)
+  double i_before = 0;         // N: |integral terms| on the PID tick before the switch
 };
 
 struct ModeRun {
@@ -50,7 +58,9 @@ struct ModeRun {
   double max_step_steady = 0;  // N: largest step outside the 2 s windows (for scale)
 };
 
-ModeRun run_modes(const std::string& vehicle_name) {
+// Runs `changes` (mode sent each second from its time on) until end_s, with the pilot's stick
+// (open loop) and closed-loop velocity command (u = 0.3 m/s, no yaw rate) both sent throughout.
+ModeRun run_modes(const std::string& vehicle_name, std::vector<Change> changes, double end_s) {
   const PlantSpec* spec = nullptr;
   for (const auto& p : plants()) {
     if (p.name == vehicle_name) spec = &p;
@@ -74,16 +84,19 @@ ModeRun run_modes(const std::string& vehicle_name) {
   ex.add(skeep);
 
   ModeRun r;
-  r.changes = {{0, controller_mode_t::MANUAL_OPEN_LOOP},
-               {10, controller_mode_t::WAYPOINTING},
-               {30, controller_mode_t::MANUAL_OPEN_LOOP}};
-  const double end_s = 40;
+  r.changes = std::move(changes);
   manual_demand_t stick{};
   stick.demand[0] = 0.5;  // half ahead, a little starboard yaw
   stick.demand[5] = 0.1;
   stick.valid = true;
+  manual_velocity_cmd_t pilot{};
+  pilot.velocity[0] = 0.3;  // m/s ahead, holding the yaw rate at zero
+  pilot.yaw_mode = manual_velocity_cmd_t::YAW_RATE;
+  pilot.valid = true;
 
   std::int8_t source = -1;
+  std::int8_t arb_mode = -1;
+  double last_i = 0;          // |integral terms| of the last pid_terms
   int current = -1;           // index of the change in force
   bool expect_entry = false;  // next velocity pid_terms is the entry tick
   bool expect_stick = false;  // next allocation status is the first after the switch
@@ -94,7 +107,8 @@ ModeRun run_modes(const std::string& vehicle_name) {
   ex.observe([&](const std::string& ch, const std::uint8_t* d, int n, TimeUs t) {
     const double ts = to_seconds(t);
     if (ch == channels::kArbitration && arb.decode(d, 0, n) == n) {
-      if (arb.active_source != source) {
+      // A change of source, or of mode with the source unchanged (closed loop <-> waypointing).
+      if (arb.active_source != source || arb.mode != arb_mode) {
         for (int k = static_cast<int>(r.changes.size()) - 1; k >= 0; --k) {
           if (ts >= r.changes[static_cast<std::size_t>(k)].t) {
             current = k;
@@ -106,12 +120,14 @@ ModeRun run_modes(const std::string& vehicle_name) {
         expect_entry = arb.active_source == wrench_t::SOURCE_VELOCITY_PID;
         expect_stick = arb.active_source == wrench_t::SOURCE_MANUAL_DEMAND;
         source = arb.active_source;
+        arb_mode = arb.mode;
       }
     } else if (ch == channels::kPidVelocity && terms.decode(d, 0, n) == n) {
       const bool zero = terms.i[0] == 0 && terms.i[1] == 0 && terms.i[2] == 0;
       if (expect_entry) {
         auto& c = r.changes[static_cast<std::size_t>(current)];
         c.i_zero_on_entry = zero;
+        c.i_before = last_i;
         // The PID's own wrench at entry against what was in force: the step without a blend.
         c.unblended_jump = std::hypot(terms.feed_forward[0] + terms.p[0] + terms.i[0] - last_x,
                                       terms.feed_forward[1] + terms.p[1] + terms.i[1] - last_y);
@@ -119,6 +135,7 @@ ModeRun run_modes(const std::string& vehicle_name) {
       } else if (source != wrench_t::SOURCE_VELOCITY_PID && !zero) {
         r.i_zero_while_standing_by = false;
       }
+      last_i = std::abs(terms.i[0]) + std::abs(terms.i[1]) + std::abs(terms.i[2]);
     } else if (ch == channels::kAllocationStatus && st.decode(d, 0, n) == n) {
       if (expect_stick && current >= 0) {
         // The mixer's own tick at this instant ran before the arbitration arrived; the stick
@@ -170,6 +187,8 @@ ModeRun run_modes(const std::string& vehicle_name) {
     }
     stick.utime = t;
     ex.inject(channels::kManualDemand, stick, t);
+    pilot.utime = t;
+    ex.inject(channels::kManualVelocity, pilot, t);
   }
   ex.run_until(from_seconds(end_s));
   return r;
@@ -182,7 +201,11 @@ TEST(ModeChange, ManualToWaypointingBlendsFromTheStickAndBackIsInstant) {
   const std::pair<const char*, double> boats[] = {{"otter", 20.0}, {"seed004_usv_x", 55.0}};
   for (const auto& [v, bound] : boats) {
     SCOPED_TRACE(v);
-    const ModeRun r = run_modes(v);
+    const ModeRun r = run_modes(v,
+                                {{0, controller_mode_t::MANUAL_OPEN_LOOP},
+                                 {10, controller_mode_t::WAYPOINTING},
+                                 {30, controller_mode_t::MANUAL_OPEN_LOOP}},
+                                40);
     EXPECT_TRUE(r.i_zero_while_standing_by);
     const Change& to_auto = r.changes[1];
     const Change& to_manual = r.changes[2];
@@ -197,6 +220,39 @@ TEST(ModeChange, ManualToWaypointingBlendsFromTheStickAndBackIsInstant) {
         "%s: manual -> waypointing: largest step %.1f N in 2 s (%.1f N without the blend); "
         "waypointing -> manual: %.1f N (instant by design); elsewhere up to %.1f N\n",
         v, to_auto.max_step, to_auto.unblended_jump, to_manual.max_step, r.max_step_steady);
+  }
+}
+
+// Manual closed loop -> waypointing -> manual closed loop, mid-path: the source stays
+// VELOCITY_PID, only the setpoint changes (the pilot's 0.3 m/s or the follower's). Each switch
+// resets the integrators (zero on the switch tick, after 10 s / 20 s of integrating) and blends
+// from the last published wrench over blend_s, both ways; same bounds as above (8 % of thrust).
+TEST(ModeChange, ClosedLoopToWaypointingAndBackBlendsWithIntegratorsReset) {
+  const std::pair<const char*, double> boats[] = {{"otter", 20.0}, {"seed004_usv_x", 55.0}};
+  for (const auto& [v, bound] : boats) {
+    SCOPED_TRACE(v);
+    const ModeRun r = run_modes(v,
+                                {{0, controller_mode_t::MANUAL_CLOSED_LOOP},
+                                 {10, controller_mode_t::WAYPOINTING},
+                                 {30, controller_mode_t::MANUAL_CLOSED_LOOP}},
+                                40);
+    const Change& to_auto = r.changes[1];
+    const Change& to_manual = r.changes[2];
+    ASSERT_GE(to_auto.switched_at, 10.0);
+    ASSERT_LT(to_auto.switched_at, 11.0);  // the path was loaded: waypointing follows it at once
+    ASSERT_GE(to_manual.switched_at, 30.0);
+    ASSERT_LT(to_manual.switched_at, 31.0);
+    for (const Change* c : {&to_auto, &to_manual}) {
+      // The integrator had built up under the previous command, and is zero on the switch tick.
+      EXPECT_GT(c->i_before, 0.0);
+      EXPECT_TRUE(c->i_zero_on_entry);
+      EXPECT_LT(c->max_step, bound);  // N per mixer output, within 2 s
+    }
+    std::printf(
+        "%s closed loop: manual -> waypointing: largest step %.1f N in 2 s (%.1f N without the "
+        "blend); waypointing -> manual: %.1f N (%.1f N without); elsewhere up to %.1f N\n",
+        v, to_auto.max_step, to_auto.unblended_jump, to_manual.max_step, to_manual.unblended_jump,
+        r.max_step_steady);
   }
 }
 
