@@ -16,7 +16,10 @@ echo "$out"
 if [ $rc -ne 0 ]; then
   echo "FAIL: today's code does not reproduce $log (if the change is intended: tools/rerecord-golden)"; fail=1
 fi
-echo "$out" | grep -q "PASS (6 processes, tolerance 0" || { echo "FAIL: expected all 6 processes replayed at tolerance 0"; fail=1; }
+# A lockstep log: every process is in the verdict (none informational), named on the line.
+echo "$out" | grep -Eq "^tiller-replay: PASS \(6 processes checked: [a-z-]+(, [a-z-]+){5}; tolerance 0[;,]" ||
+  { echo "FAIL: expected all 6 processes checked at tolerance 0"; fail=1; }
+echo "$out" | grep -q "^tiller-replay: .*informational" && { echo "FAIL: a lockstep replay left a process out of the verdict"; fail=1; }
 
 # A changed gain is caught.
 sed 's/surge: {k_drag: 77.5, k_drag_quad: 0, k_error: 150,/surge: {k_drag: 77.5, k_drag_quad: 0, k_error: 160,/' \

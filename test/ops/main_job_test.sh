@@ -31,6 +31,17 @@ echo "$rout" | grep -E "^[a-z]|summary|DIFFERENT"
 for p in esc mixer path-follower velocity-pid station-keep sim; do
   echo "$rout" | grep -q "^$p (config /" || { echo "FAIL: $p was not replayed"; fail=1; }
 done
+# The verdict line counts only what it checked: on a live log the integrating processes (sim,
+# velocity-pid, station-keep) are informational, and the line says so.
+vline=$(echo "$rout" | grep "^tiller-replay: ")
+echo "$vline" | grep -Eq "^tiller-replay: PASS \(3 processes checked: [a-z, -]+; 3 informational: [a-z, -]+; live log" ||
+  { echo "FAIL: the verdict line does not say 3 processes checked, 3 informational: $vline"; fail=1; }
+for p in esc mixer path-follower; do
+  echo "$vline" | sed 's/;.*informational.*//' | grep -Eq "[:,] $p(,|$)" || { echo "FAIL: $p is not among the checked processes: $vline"; fail=1; }
+done
+for p in sim velocity-pid station-keep; do
+  echo "$vline" | sed 's/.*informational: //; s/;.*//' | grep -Eq "(^|, )$p(,|$)" || { echo "FAIL: $p is not among the informational processes: $vline"; fail=1; }
+done
 sed -e 's/^  max_speed: 1.5 /  max_speed: 1.6 /' -e "s|vehicle_file: config/|vehicle_file: $src/config/|" "$src/config/guidance/otter.yaml" > "$tmp/guidance_changed.yaml"
 cmp -s "$src/config/guidance/otter.yaml" "$tmp/guidance_changed.yaml" && { echo "FAIL: could not change max_speed (config changed?)"; fail=1; }
 rout=$(cd /tmp && "$build/bin/tiller-replay" "$log" --process path-follower --config "$tmp/guidance_changed.yaml" 2>&1); rrc=$?

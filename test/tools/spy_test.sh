@@ -9,13 +9,18 @@
 #     and decoded its messages with a Tiller class (not only "types found"), and so are the
 #     simulator's odometry and the mixer's thruster commands and allocation status;
 #  3. a screenshot is kept in the build tree (test-out/spy/spy.png).
-# Fails (does not skip) when Java, lcm-spy, Xvfb or javac is missing. Args: SOURCE_DIR BUILD_DIR
+# Fails (does not skip) when Java (with AWT: a headless JRE cannot open the window), lcm-spy,
+# Xvfb or javac is missing. Args: SOURCE_DIR BUILD_DIR
 set -u
 src="$1"; build="$2"
 out="$build/test-out/spy"; mkdir -p "$out"
 for tool in java javac lcm-spy Xvfb import; do
   command -v $tool > /dev/null 2>&1 || { echo "FAIL: $tool is not installed (apt-get install default-jdk liblcm-java xvfb imagemagick; see README)"; exit 1; }
 done
+# lcm-spy opens windows: a headless JRE (default-jre-headless alone) has no AWT X11 toolkit and
+# lcm-spy dies at its first window. The JRE's lib/ holds libawt_xawt.so when it can open them.
+awt="$(dirname "$(readlink -f "$(command -v java)")")/../lib/libawt_xawt.so"
+[ -f "$awt" ] || { echo "FAIL: java has no AWT (install default-jre; tools/setup does): $awt missing"; exit 1; }
 [ -f "$build/tiller-lcmtypes.jar" ] || { echo "FAIL: $build/tiller-lcmtypes.jar missing (build the lcmtypes jar)"; exit 1; }
 n_types=$(ls "$src"/lcmtypes/*.lcm | wc -l)
 xv=""; peer=""; spy=""; sim=""; mixer=""
