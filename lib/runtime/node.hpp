@@ -35,6 +35,7 @@
 #include <utility>
 #include <vector>
 
+#include <tiller/count_guard.hpp>
 #include <tiller/heartbeat_t.hpp>
 
 #include "core/time.hpp"
@@ -149,6 +150,10 @@ class Node {
     void (Derived::*handler)(const Msg&, TimeUs);
     Msg msg;
     bool dispatch(const void* data, int size, TimeUs now) override {
+      // lcm-gen's decoders resize each array to the packet's count before checking that the
+      // bytes are there: a short packet with a huge count would allocate gigabytes. The
+      // generated guard (tools/lcm-count-guard.py) refuses it first, without allocating.
+      if (!counts_fit<Msg>(data, size)) return false;
       // lcm-gen's decoders throw (std::length_error from a resize) on a negative array count:
       // that is a malformed packet like any other, not a fault of this node.
       int n = -1;
