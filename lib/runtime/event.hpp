@@ -6,6 +6,8 @@
 #include <string>
 #include <vector>
 
+#include <tiller/count_guard.hpp>
+
 #include "core/time.hpp"
 
 namespace tiller {
@@ -16,10 +18,12 @@ struct Event {
   std::vector<std::uint8_t> data;
 };
 
-// Decodes an Event's bytes into a message; returns false if the bytes are not a Msg.
+// Decodes an Event's bytes into a message; returns false if the bytes are not a Msg. Array
+// counts that cannot fit in the bytes are refused before lcm-gen's decoder resizes to them.
 template <class Msg>
 bool decode(const Event& e, Msg& out) {
   const int n = static_cast<int>(e.data.size());
+  if (!counts_fit<Msg>(e.data.data(), n)) return false;
   return out.decode(e.data.data(), 0, n) == n;
 }
 

@@ -35,6 +35,7 @@
 #include <tiller/waypoint_t.hpp>
 #include <tiller/wrench_t.hpp>
 
+#include "runtime/event.hpp"
 #include "runtime/node.hpp"
 
 long count_guard_test_allocations();  // count_guard_alloc_hook.cpp: operator new calls so far
@@ -325,6 +326,22 @@ TEST(CountGuard, CraftedPacketsAreMalformedAllocateNothingAndTheNextGoodOneIsHan
   r.deliver("TILLER_THRUSTER_COMMAND", c.data(), static_cast<int>(c.size()) - 3, 50);
   EXPECT_EQ(r.command, 1);
   EXPECT_EQ(r.counter_value("malformed.TILLER_THRUSTER_COMMAND"), 2);
+}
+
+// Logs decode through tiller::decode(Event) (tiller-score, log summaries): same guard.
+TEST(CountGuard, EventDecodeRefusesCraftedPacketsWithoutAllocating) {
+  const Event bad{"TILLER_ODOMETRY", 0, huge_odometry()};
+  const Event bad_cmd{"TILLER_THRUSTER_COMMAND", 0, huge_thruster_command()};
+  odometry_t o{};
+  thruster_command_t t{};
+  const long before = count_guard_test_allocations();
+  const bool decoded = decode(bad, o) || decode(bad_cmd, t);
+  EXPECT_EQ(count_guard_test_allocations() - before, 0);
+  EXPECT_FALSE(decoded);
+  odometry_t good{};
+  good.position[1] = 2.0;
+  EXPECT_TRUE(decode(encode("TILLER_ODOMETRY", 0, good), o));
+  EXPECT_DOUBLE_EQ(o.position[1], 2.0);
 }
 
 }  // namespace
