@@ -4,45 +4,14 @@
 // new in this binary. Allocators and inputs are made before counting starts.
 #include <gtest/gtest.h>
 
-#include <atomic>
-#include <cstdlib>
 #include <limits>
 #include <memory>
-#include <new>
 #include <random>
 #include <vector>
 
+#include "alloc_count.hpp"
 #include "allocation/allocator.hpp"
 #include "test_util.hpp"
-
-// Counting replacement of the global allocation functions (malloc/free underneath).
-#pragma GCC diagnostic ignored "-Wmismatched-new-delete"
-
-namespace {
-std::atomic<long> g_news{0};
-}
-void* operator new(std::size_t n) {
-  g_news.fetch_add(1, std::memory_order_relaxed);
-  if (void* p = std::malloc(n ? n : 1)) return p;
-  throw std::bad_alloc();
-}
-void* operator new[](std::size_t n) {
-  g_news.fetch_add(1, std::memory_order_relaxed);
-  if (void* p = std::malloc(n ? n : 1)) return p;
-  throw std::bad_alloc();
-}
-void operator delete(void* p) noexcept {
-  std::free(p);
-}
-void operator delete[](void* p) noexcept {
-  std::free(p);
-}
-void operator delete(void* p, std::size_t) noexcept {
-  std::free(p);
-}
-void operator delete[](void* p, std::size_t) noexcept {
-  std::free(p);
-}
 
 namespace tiller {
 namespace {
@@ -100,7 +69,7 @@ TEST(AllocationHeap, NoAllocationOnAnyPathOfAnyPreset) {
   std::vector<int> saturated(cases.size(), 0);
   for (std::size_t i = 0; i < cases.size(); ++i) {
     const Case& c = cases[i];
-    const long before = g_news.load();
+    const long before = test::allocations();
     int sat = 0;
     for (const Wrench& w : c.wrenches) {
       c.a->allocate(w, r);
@@ -111,7 +80,7 @@ TEST(AllocationHeap, NoAllocationOnAnyPathOfAnyPreset) {
       sat += any_saturated(r);
     }
     c.a->neutral(r);
-    news[i] = g_news.load() - before;
+    news[i] = test::allocations() - before;
     saturated[i] = sat;
   }
   for (std::size_t i = 0; i < cases.size(); ++i) {

@@ -4,42 +4,10 @@
 //   build-*/bench/allocation_bench
 #include <benchmark/benchmark.h>
 
-#include <atomic>
-#include <cstdlib>
-#include <new>
 #include <string>
 
+#include "alloc_count.hpp"
 #include "allocation/allocator.hpp"
-
-// Counting replacement of the global allocation functions (malloc/free underneath).
-#pragma GCC diagnostic ignored "-Wmismatched-new-delete"
-
-namespace {
-std::atomic<long> g_news{0};
-}
-
-void* operator new(std::size_t n) {
-  g_news.fetch_add(1, std::memory_order_relaxed);
-  if (void* p = std::malloc(n ? n : 1)) return p;
-  throw std::bad_alloc();
-}
-void* operator new[](std::size_t n) {
-  g_news.fetch_add(1, std::memory_order_relaxed);
-  if (void* p = std::malloc(n ? n : 1)) return p;
-  throw std::bad_alloc();
-}
-void operator delete(void* p) noexcept {
-  std::free(p);
-}
-void operator delete[](void* p) noexcept {
-  std::free(p);
-}
-void operator delete(void* p, std::size_t) noexcept {
-  std::free(p);
-}
-void operator delete[](void* p, std::size_t) noexcept {
-  std::free(p);
-}
 
 namespace tiller {
 namespace {
@@ -85,7 +53,7 @@ void run(benchmark::State& state, Strategy s, bool manual) {
   AllocationResult r;
   manual ? a.allocate_manual(w, r) : a.allocate(w, r);
   if ((r.scale < 1.0) != saturated && !manual) state.SkipWithError("saturation not as intended");
-  const long before = g_news.load();
+  const long before = test::allocations();
   for (auto _ : state) {
     benchmark::DoNotOptimize(w);
     if (manual)
@@ -95,7 +63,7 @@ void run(benchmark::State& state, Strategy s, bool manual) {
     benchmark::DoNotOptimize(r);
   }
   state.counters["allocs_per_call"] =
-      static_cast<double>(g_news.load() - before) / static_cast<double>(state.iterations());
+      static_cast<double>(test::allocations() - before) / static_cast<double>(state.iterations());
   state.counters["scale"] = r.scale;
 }
 

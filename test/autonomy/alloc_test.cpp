@@ -4,21 +4,15 @@
 // keeping on arrival, then hand over back and forth ten times on mode changes; after the first
 // hand-over of each kind, 18 more switches allocate nothing. The arbitration reason and the
 // status lines are sized at construction. operator new is counted for this whole binary.
-// GCC sees malloc behind operator new and free behind operator delete once they inline, and
-// calls that a mismatch; here they are the same pair by construction.
-#pragma GCC diagnostic ignored "-Wmismatched-new-delete"
-
 #include <gtest/gtest.h>
 
 #include <tiller/arbitration_t.hpp>
 #include <tiller/controller_mode_t.hpp>
 #include <tiller/wrench_t.hpp>
 
-#include <atomic>
 #include <cstdio>
-#include <cstdlib>
-#include <new>
 
+#include "alloc_count.hpp"
 #include "control/control_config.hpp"
 #include "control/station_keep_node.hpp"
 #include "control/velocity_pid_node.hpp"
@@ -28,21 +22,6 @@
 #include "runtime/channels.hpp"
 #include "runtime/lockstep.hpp"
 #include "simple_plant.hpp"
-
-namespace {
-std::atomic<long> g_allocs{0};
-}
-void* operator new(std::size_t n) {
-  ++g_allocs;
-  if (void* p = std::malloc(n ? n : 1)) return p;
-  throw std::bad_alloc();
-}
-void operator delete(void* p) noexcept {
-  std::free(p);
-}
-void operator delete(void* p, std::size_t) noexcept {
-  std::free(p);
-}
 
 namespace tiller::test {
 namespace {
@@ -92,23 +71,23 @@ TEST(Allocation, AutonomySteadyStateAllocatesNothing) {
     ex.inject(channels::kMode, manual, t);
   }
   ex.run_until(3 * kUsPerSecond);  // warm-up: buffers reach their size
-  long before = g_allocs.load();
+  long before = allocations();
   ex.run_until(10 * kUsPerSecond);  // following the path
-  EXPECT_EQ(g_allocs.load() - before, 0) << "heap allocations while following";
+  EXPECT_EQ(allocations() - before, 0) << "heap allocations while following";
   EXPECT_FALSE(follower.last_output().complete);
   EXPECT_EQ(vpid.decision().source, wrench_t::SOURCE_VELOCITY_PID);
   // The first hand-over of each kind (arrival at 13 s, the first mode change at 30.5 s) is
   // part of the warm-up: the runtime's reused buffers (lockstep queue slots, encode buffers,
   // subscription decode targets) grow once to the longest arbitration and heartbeat messages.
   // The nodes' own strings are sized at construction and do not count here.
-  before = g_allocs.load();
+  before = allocations();
   ex.run_until(31'250'000);  // station keeping again after the first round trip
-  const long first_of_kind = g_allocs.load() - before;
+  const long first_of_kind = allocations() - before;
   EXPECT_TRUE(skeep.active());
   const int measured_from = switches;
-  before = g_allocs.load();
+  before = allocations();
   ex.run_until(45 * kUsPerSecond);  // nine more station-keep <-> velocity-PID round trips
-  EXPECT_EQ(g_allocs.load() - before, 0) << "heap allocations across the hand-overs";
+  EXPECT_EQ(allocations() - before, 0) << "heap allocations across the hand-overs";
   EXPECT_TRUE(skeep.active());
   EXPECT_GE(vpid_to_sk, 10);
   EXPECT_GE(sk_to_vpid, 10);

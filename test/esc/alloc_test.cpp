@@ -11,9 +11,9 @@ namespace {
 void expect_no_allocation(const std::string& backend, int n) {
   Steady s(backend, n);
   for (int k = 0; k < 300; ++k) s.cycle();  // warm-up: first heartbeat, first status
-  const long before = g_allocations.load();
+  const long before = allocations();
   for (int k = 0; k < 3000; ++k) s.cycle();  // 30 s: 300 status messages, 30 heartbeats
-  EXPECT_EQ(g_allocations.load() - before, 0) << backend << " with " << n << " ESCs";
+  EXPECT_EQ(allocations() - before, 0) << backend << " with " << n << " ESCs";
   EXPECT_TRUE(s.node->armed());
   EXPECT_NE(s.node->last_output().value[1], s.node->backend().to_hardware(1, 0.0));
 }
@@ -30,9 +30,9 @@ TEST(EscAllocation, SimCycleAllocatesNothing) {
 }
 
 TEST(EscAllocation, CounterWorks) {
-  const long before = g_allocations.load();
+  const long before = allocations();
   auto* p = new int(3);
-  EXPECT_EQ(g_allocations.load() - before, 1);
+  EXPECT_EQ(allocations() - before, 1);
   delete p;
 }
 

@@ -13,13 +13,13 @@ namespace {
 void run(benchmark::State& state, const char* backend) {
   tiller::test::Steady s(backend, static_cast<int>(state.range(0)));
   for (int k = 0; k < 300; ++k) s.cycle();
-  const long before = tiller::test::g_allocations.load();
+  const long before = tiller::test::allocations();
   const auto tx0 = s.bus.transactions();
   for (auto _ : state) {
     s.cycle();
     benchmark::ClobberMemory();
   }
-  const double allocs = static_cast<double>(tiller::test::g_allocations.load() - before);
+  const double allocs = static_cast<double>(tiller::test::allocations() - before);
   state.counters["allocs_per_cycle"] = allocs / static_cast<double>(state.iterations());
   state.counters["bus_transactions_per_cycle"] =
       static_cast<double>(s.bus.transactions() - tx0) / static_cast<double>(state.iterations());

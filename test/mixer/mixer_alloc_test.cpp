@@ -4,29 +4,12 @@
 // operator new is counted for this whole binary.
 #include <gtest/gtest.h>
 
-#include <atomic>
 #include <cmath>
-#include <cstdlib>
-#include <new>
 
+#include "alloc_count.hpp"
 #include "mixer/mixer_node.hpp"
 #include "runtime/channels.hpp"
 #include "runtime/lockstep.hpp"
-
-namespace {
-std::atomic<long> g_allocs{0};
-}
-void* operator new(std::size_t n) {
-  ++g_allocs;
-  if (void* p = std::malloc(n ? n : 1)) return p;
-  throw std::bad_alloc();
-}
-void operator delete(void* p) noexcept {
-  std::free(p);
-}
-void operator delete(void* p, std::size_t) noexcept {
-  std::free(p);
-}
 
 namespace tiller {
 namespace {
@@ -78,9 +61,9 @@ TEST(MixerAllocation, SteadyStateAllocatesNothing) {
   ex.add(feeder);
   ex.add(mixer);
   ex.run_until(3 * kUsPerSecond);  // warm-up: buffers and heartbeat strings reach their size
-  const long before = g_allocs.load();
+  const long before = test::allocations();
   ex.run_until(13 * kUsPerSecond);
-  const long after = g_allocs.load();
+  const long after = test::allocations();
   EXPECT_EQ(after - before, 0) << "heap allocations in 10 s of steady-state mixing";
   EXPECT_GT(mixer.received(), 4000);
   // 13 s of 50 Hz ticks plus the active source's 100 Hz input, command + status each: ~3900.

@@ -3,27 +3,9 @@
 // allocations. operator new is counted for this whole binary.
 #include <gtest/gtest.h>
 
-#include <atomic>
-#include <cstdlib>
-#include <new>
-
+#include "alloc_count.hpp"
 #include "echo_node.hpp"
 #include "runtime/lockstep.hpp"
-
-namespace {
-std::atomic<long> g_allocs{0};
-}
-void* operator new(std::size_t n) {
-  ++g_allocs;
-  if (void* p = std::malloc(n ? n : 1)) return p;
-  throw std::bad_alloc();
-}
-void operator delete(void* p) noexcept {
-  std::free(p);
-}
-void operator delete(void* p, std::size_t) noexcept {
-  std::free(p);
-}
 
 namespace tiller {
 namespace {
@@ -35,9 +17,9 @@ TEST(Allocation, LockstepSteadyStateAllocatesNothing) {
   ex.add(p);
   ex.add(c);
   ex.run_until(3 * kUsPerSecond);  // warm-up: buffers and heartbeat strings reach their size
-  const long before = g_allocs.load();
+  const long before = test::allocations();
   ex.run_until(13 * kUsPerSecond);  // 1000 plant ticks, 500 controller ticks, 1500 deliveries
-  const long after = g_allocs.load();
+  const long after = test::allocations();
   EXPECT_EQ(after - before, 0) << "heap allocations in 10 s of steady-state lockstep";
   EXPECT_GT(c.received(), 1000);
 }

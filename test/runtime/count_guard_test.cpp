@@ -35,10 +35,9 @@
 #include <tiller/waypoint_t.hpp>
 #include <tiller/wrench_t.hpp>
 
+#include "alloc_count.hpp"
 #include "runtime/event.hpp"
 #include "runtime/node.hpp"
-
-long count_guard_test_allocations();  // count_guard_alloc_hook.cpp: operator new calls so far
 
 namespace tiller {
 namespace {
@@ -292,10 +291,10 @@ TEST(CountGuard, CraftedPacketsAreMalformedAllocateNothingAndTheNextGoodOneIsHan
   const auto o = huge_odometry();
   const auto t = huge_thruster_command();
   Receiver r;
-  const long before = count_guard_test_allocations();
+  const long before = test::allocations();
   r.deliver("TILLER_ODOMETRY", o.data(), static_cast<int>(o.size()), 10);
   r.deliver("TILLER_THRUSTER_COMMAND", t.data(), static_cast<int>(t.size()), 20);
-  const long after = count_guard_test_allocations();
+  const long after = test::allocations();
   EXPECT_EQ(after - before, 0) << "heap allocations for two crafted packets";
   EXPECT_EQ(r.counter_value("malformed.TILLER_ODOMETRY"), 1);
   EXPECT_EQ(r.counter_value("malformed.TILLER_THRUSTER_COMMAND"), 1);
@@ -334,9 +333,9 @@ TEST(CountGuard, EventDecodeRefusesCraftedPacketsWithoutAllocating) {
   const Event bad_cmd{"TILLER_THRUSTER_COMMAND", 0, huge_thruster_command()};
   odometry_t o{};
   thruster_command_t t{};
-  const long before = count_guard_test_allocations();
+  const long before = test::allocations();
   const bool decoded = decode(bad, o) || decode(bad_cmd, t);
-  EXPECT_EQ(count_guard_test_allocations() - before, 0);
+  EXPECT_EQ(test::allocations() - before, 0);
   EXPECT_FALSE(decoded);
   odometry_t good{};
   good.position[1] = 2.0;

@@ -10,32 +10,12 @@
 #include <unistd.h>
 #include <lcm/lcm-cpp.hpp>
 
-#include <atomic>
-#include <cstdlib>
-#include <new>
-
 #include <tiller/odometry_t.hpp>
 #include <tiller/thruster_command_t.hpp>
 #include <tiller/wrench_t.hpp>
 
+#include "alloc_count.hpp"
 #include "runtime/live.hpp"
-
-namespace {
-std::atomic<long> g_allocs{0};
-}
-void* operator new(std::size_t n) {
-  ++g_allocs;
-  if (void* p = std::malloc(n ? n : 1)) return p;
-  throw std::bad_alloc();
-}
-// GCC 12 sees free() next to the replaced operator new and warns; they are a matched pair here.
-#pragma GCC diagnostic ignored "-Wmismatched-new-delete"
-void operator delete(void* p) noexcept {
-  std::free(p);
-}
-void operator delete(void* p, std::size_t) noexcept {
-  std::free(p);
-}
 
 namespace tiller {
 namespace {
@@ -60,11 +40,11 @@ class Counting : public Node {
     w.tau[0] = x_;
     publish("TILLER_WRENCH_VELOCITY", w);
     if (base_allocs_ < 0 && received() >= 500) {  // warm-up done
-      base_allocs_ = g_allocs.load();
+      base_allocs_ = test::allocations();
       base_rx_ = received();
     }
     if (base_allocs_ >= 0 && received() >= base_rx_ + 2000) {
-      end_allocs_ = g_allocs.load();
+      end_allocs_ = test::allocations();
       end_rx_ = received();
       ex_.stop();
     }

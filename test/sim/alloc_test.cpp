@@ -3,63 +3,13 @@
 // replacing the global operator new in this test executable.
 #include <gtest/gtest.h>
 
-#include <atomic>
-#include <cstdlib>
-#include <new>
 #include <string>
 #include <vector>
 
+#include "alloc_count.hpp"
 #include "runtime/channels.hpp"
 #include "runtime/event.hpp"
 #include "sim/sim_node.hpp"
-
-namespace {
-std::atomic<long> g_allocations{0};
-}
-
-void* operator new(std::size_t n) {
-  ++g_allocations;
-  if (void* p = std::malloc(n ? n : 1)) return p;
-  throw std::bad_alloc();
-}
-void* operator new[](std::size_t n) {
-  ++g_allocations;
-  if (void* p = std::malloc(n ? n : 1)) return p;
-  throw std::bad_alloc();
-}
-void* operator new(std::size_t n, std::align_val_t a) {
-  ++g_allocations;
-  const std::size_t al = static_cast<std::size_t>(a);
-  if (void* p = std::aligned_alloc(al, (n + al - 1) / al * al)) return p;
-  throw std::bad_alloc();
-}
-void* operator new[](std::size_t n, std::align_val_t a) {
-  return operator new(n, a);
-}
-void operator delete(void* p) noexcept {
-  std::free(p);
-}
-void operator delete[](void* p) noexcept {
-  std::free(p);
-}
-void operator delete(void* p, std::size_t) noexcept {
-  std::free(p);
-}
-void operator delete[](void* p, std::size_t) noexcept {
-  std::free(p);
-}
-void operator delete(void* p, std::align_val_t) noexcept {
-  std::free(p);
-}
-void operator delete[](void* p, std::align_val_t) noexcept {
-  std::free(p);
-}
-void operator delete(void* p, std::size_t, std::align_val_t) noexcept {
-  std::free(p);
-}
-void operator delete[](void* p, std::size_t, std::align_val_t) noexcept {
-  std::free(p);
-}
 
 namespace tiller {
 namespace {
@@ -82,9 +32,9 @@ TEST(SimAllocation, ModelStepAllocatesNothing) {
     for (int i = 0; i < m.n_thrusters(); ++i) m.set_thrust_target(i, 12.0);
     sim::Environment env;
     env.current_ned = sim::Vector3(0.1, 0.2, 0);
-    const long before = g_allocations.load();
+    const long before = test::allocations();
     for (int k = 0; k < 1000; ++k) m.step(0.01, env);
-    EXPECT_EQ(g_allocations.load() - before, 0) << name;
+    EXPECT_EQ(test::allocations() - before, 0) << name;
     EXPECT_GT(m.nu().norm(), 0.0);
   }
 }
@@ -120,10 +70,10 @@ TEST(SimAllocation, SimNodeTickAndEscDeliveryAllocateNothing) {
     now += p.step_us;
   };
   for (int k = 0; k < 200; ++k) cycle();  // warm-up: buffers reach their size, heartbeat sent
-  const long before = g_allocations.load();
+  const long before = test::allocations();
   const long published_before = bus.published;
   for (int k = 0; k < 2000; ++k) cycle();  // 20 s: 400 odometry, ground truth and states each
-  EXPECT_EQ(g_allocations.load() - before, 0);
+  EXPECT_EQ(test::allocations() - before, 0);
   EXPECT_GE(bus.published - published_before, 1200);
   EXPECT_EQ(node.rejected(), 0);
 }

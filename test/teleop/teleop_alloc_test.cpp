@@ -3,26 +3,8 @@
 // operator new is counted for this whole binary.
 #include <gtest/gtest.h>
 
-#include <atomic>
-#include <cstdlib>
-#include <new>
-
+#include "alloc_count.hpp"
 #include "teleop_rig.hpp"
-
-namespace {
-std::atomic<long> g_allocs{0};
-}
-void* operator new(std::size_t n) {
-  ++g_allocs;
-  if (void* p = std::malloc(n ? n : 1)) return p;
-  throw std::bad_alloc();
-}
-void operator delete(void* p) noexcept {
-  std::free(p);
-}
-void operator delete(void* p, std::size_t) noexcept {
-  std::free(p);
-}
 
 namespace tiller {
 namespace {
@@ -56,10 +38,10 @@ TEST(Allocation, StickEventsAndTicksAllocateNothing) {
     }
   };
   run(2000);  // warm-up: encode buffer, heartbeat strings and counters reach their size
-  const long before = g_allocs.load();
+  const long before = test::allocations();
   const long published = bus.n;
   run(10000);  // 20 s: 10,000 events, 1,000 ticks, 20 heartbeats
-  EXPECT_EQ(g_allocs.load() - before, 0) << "heap allocations in steady-state teleop";
+  EXPECT_EQ(test::allocations() - before, 0) << "heap allocations in steady-state teleop";
   EXPECT_GT(bus.n - published, 30000);
   node.attach(nullptr);
 }
