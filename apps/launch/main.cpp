@@ -67,22 +67,6 @@ std::string now_stamp() {
   return buf;
 }
 
-// --status-every: a number of seconds in [0, 86400], checked before anything starts.
-double seconds_option(const app::Args& a, const std::string& name) {
-  const std::string& s = a.get(name);
-  std::size_t used = 0;
-  double v = NAN;
-  try {
-    v = std::stod(s, &used);
-  } catch (const std::exception&) {
-    used = 0;
-  }
-  if (used != s.size() || !std::isfinite(v) || v < 0 || v > 86400)
-    throw std::invalid_argument(
-        "--" + name + ": expected a number of seconds from 0 to 86400, got \"" + s + "\"");
-  return v;
-}
-
 // YAML double-quoted scalar.
 std::string q(const std::string& s) {
   std::string o = "\"";
@@ -159,7 +143,9 @@ int run(int argc, char** argv) {
        {"status-file", "FILE",
         "status table kept up to date here (default: $XDG_RUNTIME_DIR or /tmp)", ""}}};
   const app::Args args = app::parse(argc, argv, spec);
-  const double every = seconds_option(args, "status-every");
+  // Checked before anything starts.
+  const double every =
+      app::number_option(args, "status-every", 0, 86400, "a number of seconds from 0 to 86400");
   if (args.positional.size() == 2 && args.positional[0] == "status") {
     const LaunchFile lf = load_launch_file(args.positional[1]);
     const std::string f =

@@ -50,8 +50,11 @@ int wait_for(const app::Args& a) {
     hold_s = m.station_keep_s;
     timeout_s = m.time_limit_s;
   }
-  if (!a.get("hold-s").empty()) hold_s = std::stod(a.get("hold-s"));
-  if (!a.get("timeout-s").empty()) timeout_s = std::stod(a.get("timeout-s"));
+  constexpr double kDay = 86400;
+  if (!a.get("hold-s").empty())
+    hold_s = app::number_option(a, "hold-s", 0, kDay, "a number of seconds from 0 to 86400");
+  if (!a.get("timeout-s").empty())
+    timeout_s = app::number_option(a, "timeout-s", 0, kDay, "a number of seconds from 0 to 86400");
   lcm::LCM lc(with_default_ttl(a.lcm_url));
   if (!lc.good()) throw std::runtime_error("cannot open LCM at " + a.lcm_url);
   const auto& db = logtools::tiller_types();

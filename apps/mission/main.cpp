@@ -5,10 +5,10 @@
 #include <tiller/arm_request_t.hpp>
 #include <tiller/controller_mode_t.hpp>
 
-#include <charconv>
-#include <cmath>
+#include <cstdint>
 #include <cstdlib>
 #include <iostream>
+#include <limits>
 
 #include "mission/mission.hpp"
 #include "mission/mission_node.hpp"
@@ -31,28 +31,17 @@ int main(int argc, char** argv) {
               << ": tiller-mission has no config file; give the mission with --mission FILE\n";
     return 2;
   }
-  // Whole-string numbers only; a bad value names the flag and what was expected (exit 2).
-  const std::string& repeat_text = args.get("repeat-s");
-  char* end = nullptr;
-  const double repeat = std::strtod(repeat_text.c_str(), &end);
-  if (repeat_text.empty() || *end != '\0' || !std::isfinite(repeat) || repeat < 0) {
-    std::cerr << "tiller-mission: --repeat-s '" << repeat_text
-              << "': expected a number of seconds >= 0 (0 = publish once)\n";
-    return 2;
-  }
-  std::int64_t id = -1;
-  const std::string& id_text = args.get("path-id");
-  if (!id_text.empty()) {
-    const auto r = std::from_chars(id_text.data(), id_text.data() + id_text.size(), id);
-    if (r.ec != std::errc() || r.ptr != id_text.data() + id_text.size() || id < 0) {
-      std::cerr << "tiller-mission: --path-id '" << id_text
-                << "': expected a whole number >= 0 (int64)\n";
-      return 2;
-    }
-  }
   return app::guarded_main("tiller-mission", [&] {
+    // Numbers first, whole strings only; a bad value names the flag and what was expected.
+    const double repeat =
+        app::number_option(args, "repeat-s", 0, std::numeric_limits<double>::infinity(),
+                           "a number of seconds >= 0 (0 = publish once)");
+    std::int64_t id =
+        args.get("path-id").empty()
+            ? -1
+            : app::integer_option(args, "path-id", 0, INT64_MAX, "a whole number >= 0 (int64)");
     const auto m = mission::load_mission_file(args.get("mission"));
-    if (id_text.empty()) id = wall_time_us();
+    if (id < 0) id = wall_time_us();
     std::cout << "tiller-mission: " << m.name << ": " << m.waypoints.size()
               << " waypoints, path_id " << id << "\n";
     LiveExecutor ex(args.lcm_url);

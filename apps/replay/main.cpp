@@ -48,21 +48,6 @@ bool explicit_option(int argc, char** argv, const std::string& name) {
   }
   return false;
 }
-// A numeric option, checked before anything runs.
-double number_option(const app::Args& a, const std::string& name, double min,
-                     const std::string& expected, double max = std::numeric_limits<double>::max()) {
-  const std::string& s = a.get(name);
-  std::size_t used = 0;
-  double v = NAN;
-  try {
-    v = std::stod(s, &used);
-  } catch (const std::exception&) {
-    used = 0;
-  }
-  if (used != s.size() || !std::isfinite(v) || v < min || v > max)
-    throw std::invalid_argument("--" + name + ": expected " + expected + ", got \"" + s + "\"");
-  return v;
-}
 
 struct Planned {
   const ProcessEntry* entry = nullptr;
@@ -124,16 +109,17 @@ int main(int argc, char** argv) {
     // Numeric options first, before anything is read or run.
     std::optional<double> opt_tol, opt_time_tol, opt_rel, opt_match;
     if (!a.get("relative-tolerance").empty())
-      opt_rel = number_option(a, "relative-tolerance", 0, "a fraction from 0 to 1", 1);
+      opt_rel = app::number_option(a, "relative-tolerance", 0, 1, "a fraction from 0 to 1");
     if (!a.get("live-match").empty())
-      opt_match = number_option(a, "live-match", 0, "a fraction from 0 to 1", 1);
-    if (!a.get("tolerance").empty()) opt_tol = number_option(a, "tolerance", 0, "a number >= 0");
+      opt_match = app::number_option(a, "live-match", 0, 1, "a fraction from 0 to 1");
+    if (!a.get("tolerance").empty())
+      opt_tol = app::number_option(a, "tolerance", 0, std::numeric_limits<double>::infinity(),
+                                   "a number >= 0");
     if (!a.get("time-tolerance-ms").empty())
-      opt_time_tol = number_option(a, "time-tolerance-ms", 0, "a number of ms >= 0");
-    const double show_d = number_option(a, "show", 1, "a whole number >= 1");
-    if (show_d != std::floor(show_d))
-      throw std::invalid_argument("--show: expected a whole number >= 1, got \"" + a.get("show") +
-                                  "\"");
+      opt_time_tol =
+          app::number_option(a, "time-tolerance-ms", 0, std::numeric_limits<double>::infinity(),
+                             "a number of ms >= 0");
+    const std::int64_t show_n = app::integer_option(a, "show", 1, INT64_MAX, "a whole number >= 1");
     const std::string which = a.get("process");
     if (which != "all" && !entry_named(which)) {
       std::cerr << "tiller-replay: --process: no replayable process named \"" << which
@@ -295,7 +281,7 @@ int main(int argc, char** argv) {
       ReplayOptions o;
       o.heartbeats = heartbeats && !live;
       o.live = live;
-      o.show = static_cast<std::size_t>(show_d);
+      o.show = static_cast<std::size_t>(show_n);
       for (const auto& s : p.args) {
         // Recorded paths are relative to the tree the run was started in.
         const auto eq = s.find('=');

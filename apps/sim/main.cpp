@@ -5,12 +5,9 @@
 // Flags override the config and are checked as strictly as it is: the whole string must be a
 // finite number (an integer for --seed) within the range load_sim_params accepts for the same
 // setting; otherwise the program exits 2 naming the flag, the expected range and the value.
-#include <cctype>
-#include <charconv>
-#include <cmath>
+#include <cstdint>
 #include <cstdio>
 #include <cstdlib>
-#include <filesystem>
 #include <stdexcept>
 #include <string>
 
@@ -20,15 +17,6 @@
 #include "sim/sim_node.hpp"
 
 namespace {
-// A relative path that does not exist from here is looked up in the source tree.
-std::string resolve(const std::string& p) {
-  if (p.empty() || std::filesystem::exists(p) || std::filesystem::path(p).is_absolute()) return p;
-  for (const char* base : {TILLER_SOURCE_DIR "/config/", TILLER_SOURCE_DIR "/"}) {
-    if (std::filesystem::exists(base + p)) return base + p;
-  }
-  return p;
-}
-
 std::string fmt(double x) {
   char b[32];
   std::snprintf(b, sizeof b, "%g", x);
@@ -38,26 +26,8 @@ std::string fmt(double x) {
 // The flag's value as a finite number in [lo, hi] (the same range as the config key).
 double number(const tiller::app::Args& a, const std::string& name, double lo, double hi,
               const char* unit) {
-  const std::string& s = a.get(name);
-  const std::string expected =
-      "expected a finite number in [" + fmt(lo) + ", " + fmt(hi) + "] " + unit;
-  const char* begin = s.c_str();
-  char* end = nullptr;
-  const double x =
-      s.empty() || std::isspace(static_cast<unsigned char>(s[0])) ? NAN : std::strtod(begin, &end);
-  if (end != begin + s.size() || !std::isfinite(x) || x < lo || x > hi)
-    throw std::runtime_error("--" + name + ": " + expected + ", got '" + s + "'");
-  return x;
-}
-
-std::uint64_t seed(const tiller::app::Args& a) {
-  const std::string& s = a.get("seed");
-  std::int64_t v = -1;
-  const auto [p, ec] = std::from_chars(s.data(), s.data() + s.size(), v);
-  if (s.empty() || ec != std::errc() || p != s.data() + s.size() || v < 0)
-    throw std::runtime_error("--seed: expected an integer in [0, 9223372036854775807], got '" + s +
-                             "'");
-  return static_cast<std::uint64_t>(v);
+  return tiller::app::number_option(
+      a, name, lo, hi, "a finite number in [" + fmt(lo) + ", " + fmt(hi) + "] " + unit);
 }
 }  // namespace
 
@@ -94,13 +64,15 @@ int main(int argc, char** argv) {
     const double heading = given("heading-deg") ? number(args, "heading-deg", -360, 360, "deg") : 0;
     const double speed = has_speed ? number(args, "current-speed", 0, 5, "m/s") : 0;
     const double toward = has_toward ? number(args, "current-toward-deg", -360, 360, "deg") : 0;
-    const std::uint64_t s = given("seed") ? seed(args) : 0;
+    const auto s = given("seed")
+                       ? static_cast<std::uint64_t>(app::integer_option(
+                             args, "seed", 0, INT64_MAX, "an integer in [0, 9223372036854775807]"))
+                       : std::uint64_t{0};
 
-    const std::string config_path = resolve(args.config);
-    const auto root = config::Value::load_file(config_path);
+    const auto root = config::Value::load_file(args.config);  // resolved by app::parse
     SimParams p = load_sim_params(root);
     root.check_all_used();
-    if (given("vehicle")) p.vehicle_file = resolve(args.get("vehicle"));
+    if (given("vehicle")) p.vehicle_file = app::resolve_path(args.get("vehicle"));
     if (given("seed")) p.seed = s;
     if (given("north")) p.initial_eta[0] = north;
     if (given("east")) p.initial_eta[1] = east;

@@ -1,10 +1,13 @@
 #include "runtime/app.hpp"
 
+#include <charconv>
+#include <cmath>
 #include <cstdio>
 #include <cstdlib>
 #include <exception>
 #include <filesystem>
 #include <iostream>
+#include <stdexcept>
 
 #include "core/config.hpp"
 #include "runtime/channels.hpp"
@@ -46,6 +49,34 @@ void usage(const Spec& spec, std::ostream& os) {
   }
 }
 }  // namespace
+
+namespace {
+[[noreturn]] void bad_option(const std::string& name, const std::string& expected,
+                             const std::string& value) {
+  throw std::runtime_error("--" + name + ": expected " + expected + ", got '" + value + "'");
+}
+}  // namespace
+
+double number_option(const Args& a, const std::string& name, double lo, double hi,
+                     const std::string& expected) {
+  const std::string& s = a.get(name);
+  double v = NAN;
+  const auto [p, ec] = std::from_chars(s.data(), s.data() + s.size(), v);
+  if (s.empty() || ec != std::errc() || p != s.data() + s.size() || !std::isfinite(v) || v < lo ||
+      v > hi)
+    bad_option(name, expected, s);
+  return v;
+}
+
+std::int64_t integer_option(const Args& a, const std::string& name, std::int64_t lo,
+                            std::int64_t hi, const std::string& expected) {
+  const std::string& s = a.get(name);
+  std::int64_t v = 0;
+  const auto [p, ec] = std::from_chars(s.data(), s.data() + s.size(), v);
+  if (s.empty() || ec != std::errc() || p != s.data() + s.size() || v < lo || v > hi)
+    bad_option(name, expected, s);
+  return v;
+}
 
 std::string resolve_path(const std::string& path) {
   namespace fs = std::filesystem;

@@ -8,6 +8,7 @@
 // refused with a message (exit 2) instead of being silently ignored.
 #pragma once
 
+#include <cstdint>
 #include <functional>
 #include <map>
 #include <string>
@@ -46,6 +47,15 @@ Args parse(int argc, char** argv, const Spec& spec);
 // `path` as given if it is empty, absolute or exists from the current directory; else the
 // first of <source>/path and <source>/config/path that exists; else `path` unchanged.
 std::string resolve_path(const std::string& path);
+
+// A numeric option's value, checked whole before anything starts: the full string must be a
+// finite number in [lo, hi] (integer_option: a whole number in [lo, hi]). Otherwise throws
+// std::runtime_error "--NAME: expected EXPECTED, got 'VALUE'", which guarded_main prints and
+// turns into exit status 2.
+double number_option(const Args& a, const std::string& name, double lo, double hi,
+                     const std::string& expected);
+std::int64_t integer_option(const Args& a, const std::string& name, std::int64_t lo,
+                            std::int64_t hi, const std::string& expected);
 
 // Runs body(); a config or start-up error is printed as "<program>: <message>" and gives 2.
 int guarded_main(const std::string& program, const std::function<int()>& body);

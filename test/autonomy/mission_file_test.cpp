@@ -108,11 +108,15 @@ TEST(MissionNode, PublishesPathThenModeAndArmRequest) {
 // exit before any LCM is opened.
 TEST(MissionTool, BadFlagsNameTheFlagAndTheExpectedValue) {
   const std::pair<const char*, const char*> cases[] = {
-      {"--repeat-s abc", "--repeat-s 'abc': expected a number of seconds >= 0"},
-      {"--repeat-s -1", "--repeat-s '-1': expected a number of seconds >= 0"},
-      {"--repeat-s 1s", "--repeat-s '1s': expected a number of seconds >= 0"},
-      {"--path-id 12x", "--path-id '12x': expected a whole number >= 0"},
-      {"--path-id 99999999999999999999", "--path-id '99999999999999999999': expected a whole"},
+      {"--repeat-s abc",
+       "--repeat-s: expected a number of seconds >= 0 (0 = publish once), got 'abc'"},
+      {"--repeat-s -1",
+       "--repeat-s: expected a number of seconds >= 0 (0 = publish once), got '-1'"},
+      {"--repeat-s 1s",
+       "--repeat-s: expected a number of seconds >= 0 (0 = publish once), got '1s'"},
+      {"--path-id 12x", "--path-id: expected a whole number >= 0 (int64), got '12x'"},
+      {"--path-id 99999999999999999999",
+       "--path-id: expected a whole number >= 0 (int64), got '99999999999999999999'"},
       {"--config config/missions/default.yaml",
        "has no config file; give the mission with --mission"},
   };

@@ -52,7 +52,7 @@ out=$("$bin/tiller-replay" "$tmp/run.lcmlog" --configs "$tmp/bad.replay.yaml" 2>
   { echo "FAIL: unknown manifest process: exit $rc: $out"; fail=1; }
 # Numeric options are checked first.
 out=$("$bin/tiller-replay" "$tmp/run.lcmlog" --tolerance abc 2>&1); rc=$?
-[ $rc -eq 2 ] && echo "$out" | grep -q -- '--tolerance: expected a number >= 0, got "abc"' || { echo "FAIL: --tolerance abc: $rc $out"; fail=1; }
+[ $rc -eq 2 ] && echo "$out" | grep -q -- "--tolerance: expected a number >= 0, got 'abc'" || { echo "FAIL: --tolerance abc: $rc $out"; fail=1; }
 out=$("$bin/tiller-replay" "$tmp/run.lcmlog" --tolerance -5 2>&1); rc=$?
 [ $rc -eq 2 ] || { echo "FAIL: --tolerance -5 accepted"; fail=1; }
 out=$("$bin/tiller-launch" --status-every abc "$src/config/launch/sim_usv_mission.yaml" --no-log 2>&1); rc=$?

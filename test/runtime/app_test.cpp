@@ -7,6 +7,8 @@
 #include <cstdlib>
 #include <filesystem>
 #include <fstream>
+#include <functional>
+#include <stdexcept>
 #include <string>
 #include <vector>
 
@@ -100,6 +102,41 @@ TEST(App, HelpSaysWhichStandardOptionsAreNotTaken) {
         run(spec, {"--help"});
       },
       ::testing::ExitedWithCode(0), "--lcm-url URL +not taken: tiller-plot opens no LCM");
+}
+
+// Numeric options: the whole string, finite, within range; the error names the option, what was
+// expected and the value.
+TEST(App, NumberAndIntegerOptionsAreCheckedWhole) {
+  Args a;
+  auto msg = [&](const std::function<void()>& f) {
+    try {
+      f();
+    } catch (const std::runtime_error& e) {
+      return std::string(e.what());
+    }
+    return std::string("no error");
+  };
+  auto num = [&](const std::string& v) {
+    a.values["x"] = v;
+    return msg([&] { (void)number_option(a, "x", -1, 2, "a number in [-1, 2]"); });
+  };
+  a.values["x"] = "1.5";
+  EXPECT_EQ(number_option(a, "x", -1, 2, "e"), 1.5);
+  a.values["x"] = "-1e0";
+  EXPECT_EQ(number_option(a, "x", -1, 2, "e"), -1.0);
+  EXPECT_EQ(num("abc"), "--x: expected a number in [-1, 2], got 'abc'");
+  for (const char* bad : {"", "1x", " 1", "1 ", "inf", "nan", "2.5", "-1.01", "0x1"})
+    EXPECT_EQ(num(bad), std::string("--x: expected a number in [-1, 2], got '") + bad + "'") << bad;
+  auto integer = [&](const std::string& v) {
+    a.values["n"] = v;
+    return msg([&] { (void)integer_option(a, "n", 0, 10, "a whole number in [0, 10]"); });
+  };
+  a.values["n"] = "7";
+  EXPECT_EQ(integer_option(a, "n", 0, 10, "e"), 7);
+  for (const char* bad : {"", "1.0", "-1", "11", "3x", "99999999999999999999"})
+    EXPECT_EQ(integer(bad),
+              std::string("--n: expected a whole number in [0, 10], got '") + bad + "'")
+        << bad;
 }
 
 }  // namespace
