@@ -1,9 +1,12 @@
-// tiller-mission: publishes a path from a YAML or CSV mission file (TILLER_PATH), then the
-// waypointing mode (TILLER_MODE) and an arm request (TILLER_ARM_REQUEST); repeats them every
-// --repeat-s seconds until stopped (same path_id: the follower does not restart), or once.
-// It has no config file (--config is refused): the mission file is --mission FILE.
+// tiller-mission: publishes a path from a YAML or CSV mission file (TILLER_PATH) and the
+// waypointing mode (TILLER_MODE), repeated every --repeat-s seconds until stopped (same path_id:
+// the follower does not restart); sends ONE arm request, and ONE operator START
+// (TILLER_MISSION_COMMAND) once the vehicle is armed (docs/safety.md). --repeat-s 0 publishes
+// once and exits after the START (or after --start-wait-s without arming).
+// --command pause|resume|abort|release sends that operator command (and, for release, a disarm
+// request) and exits. It has no config file (--config is refused): the mission is --mission FILE.
 #include <tiller/arm_request_t.hpp>
-#include <tiller/controller_mode_t.hpp>
+#include <tiller/mission_command_t.hpp>
 
 #include <cstdint>
 #include <cstdlib>
@@ -13,29 +16,93 @@
 #include "mission/mission.hpp"
 #include "mission/mission_node.hpp"
 #include "runtime/app.hpp"
+#include "runtime/channels.hpp"
 #include "runtime/live.hpp"
+
+namespace {
+
+// Stops the executor once the mission node has sent its START, or at a deadline.
+class StopWhenStarted : public tiller::Node {
+ public:
+  StopWhenStarted(const tiller::mission::MissionNode& m, tiller::LiveExecutor& ex,
+                  tiller::TimeUs deadline)
+      : Node("mission-once", 50'000), m_(m), ex_(ex), deadline_(deadline) {}
+  void on_tick(tiller::TimeUs now) override {
+    if (m_.started() || now >= deadline_) ex_.stop();
+  }
+
+ private:
+  const tiller::mission::MissionNode& m_;
+  tiller::LiveExecutor& ex_;
+  tiller::TimeUs deadline_;
+};
+
+template <class Msg>
+void send(tiller::LiveExecutor& ex, const char* channel, const Msg& m) {
+  std::vector<std::uint8_t> buf(static_cast<std::size_t>(m.getEncodedSize()));
+  m.encode(buf.data(), 0, static_cast<int>(buf.size()));
+  ex.publish_raw(channel, buf.data(), static_cast<int>(buf.size()));
+}
+
+}  // namespace
 
 int main(int argc, char** argv) {
   using namespace tiller;
   const auto args = app::parse(
       argc, argv,
       {"tiller-mission",
-       "Publishes a mission's path, then the waypointing mode and an arm request.",
+       "Publishes a mission's path and the waypointing mode, one arm request and, once armed, "
+       "the operator's START; or sends one operator command (--command).",
        "",
        {{"mission", "FILE", "mission file (.yaml or .csv)", "config/missions/default.yaml"},
         {"path-id", "N", "path id (default: the start time in us, so each run is a new path)", ""},
         {"repeat-s", "S", "repeat period in seconds; 0 = publish once and exit", "1"},
-        {"no-arm", "", "do not send the arm request", ""}}});
+        {"start-wait-s", "S", "with --repeat-s 0: how long to wait for arming", "3"},
+        {"no-arm", "", "do not send the arm request (START still waits for arming)", ""},
+        {"command", "NAME", "send pause, resume, abort or release and exit", ""}}});
   if (!args.config.empty()) {
     std::cerr << "tiller-mission: --config " << args.config
               << ": tiller-mission has no config file; give the mission with --mission FILE\n";
     return 2;
   }
   return app::guarded_main("tiller-mission", [&] {
+    const std::string command = args.get("command");
+    if (!command.empty()) {
+      mission_command_t c{};
+      if (command == "pause") {
+        c.command = mission_command_t::PAUSE;
+      } else if (command == "resume") {
+        c.command = mission_command_t::RESUME;
+      } else if (command == "abort") {
+        c.command = mission_command_t::ABORT;
+      } else if (command == "release") {
+        c.command = mission_command_t::RELEASE;
+      } else {
+        std::cerr << "tiller-mission: --command: expected pause, resume, abort or release, got '"
+                  << command << "'\n";
+        return 2;
+      }
+      LiveExecutor ex(args.lcm_url);
+      c.utime = wall_time_us();
+      c.command_id = c.utime;
+      c.source = "tiller-mission";
+      send(ex, channels::kMissionCommand, c);
+      if (c.command == mission_command_t::RELEASE) {
+        arm_request_t a{};
+        a.utime = wall_time_us();
+        a.arm = false;
+        a.source = "tiller-mission (release)";
+        send(ex, channels::kArmRequest, a);
+      }
+      std::cout << "tiller-mission: sent " << command << " (id " << c.command_id << ")\n";
+      return 0;
+    }
     // Numbers first, whole strings only; a bad value names the flag and what was expected.
     const double repeat =
         app::number_option(args, "repeat-s", 0, std::numeric_limits<double>::infinity(),
                            "a number of seconds >= 0 (0 = publish once)");
+    const double wait =
+        app::number_option(args, "start-wait-s", 0, 3600, "a number of seconds in [0, 3600]");
     std::int64_t id =
         args.get("path-id").empty()
             ? -1
@@ -45,32 +112,16 @@ int main(int argc, char** argv) {
     std::cout << "tiller-mission: " << m.name << ": " << m.waypoints.size()
               << " waypoints, path_id " << id << "\n";
     LiveExecutor ex(args.lcm_url);
-    mission::MissionNode node(m, id, from_seconds(repeat > 0 ? repeat : 1.0), !args.flag("no-arm"));
-    if (repeat <= 0) {
-      const auto p = mission::to_path(m, id, wall_time_us());
-      std::vector<std::uint8_t> buf(static_cast<std::size_t>(p.getEncodedSize()));
-      p.encode(buf.data(), 0, static_cast<int>(buf.size()));
-      ex.publish_raw("TILLER_PATH", buf.data(), static_cast<int>(buf.size()));
-      controller_mode_t mode{};
-      mode.utime = wall_time_us();
-      mode.mode = controller_mode_t::WAYPOINTING;
-      mode.is_translation = m.is_translation;
-      mode.source = "mission";
-      buf.resize(static_cast<std::size_t>(mode.getEncodedSize()));
-      mode.encode(buf.data(), 0, static_cast<int>(buf.size()));
-      ex.publish_raw("TILLER_MODE", buf.data(), static_cast<int>(buf.size()));
-      if (!args.flag("no-arm")) {
-        arm_request_t a{};
-        a.utime = wall_time_us();
-        a.arm = true;
-        a.source = "mission";
-        buf.resize(static_cast<std::size_t>(a.getEncodedSize()));
-        a.encode(buf.data(), 0, static_cast<int>(buf.size()));
-        ex.publish_raw("TILLER_ARM_REQUEST", buf.data(), static_cast<int>(buf.size()));
-      }
-      return 0;
-    }
+    // Once: the first tick publishes everything; the period is long enough not to repeat.
+    const TimeUs period = repeat > 0 ? from_seconds(repeat) : from_seconds(wait + 3600);
+    mission::MissionNode node(m, id, period, !args.flag("no-arm"));
     ex.add(node);
-    return ex.run();
+    if (repeat > 0) return ex.run();
+    StopWhenStarted stopper(node, ex, wall_time_us() + from_seconds(wait));
+    ex.add(stopper);
+    const int rc = ex.run();
+    if (!node.started())
+      std::cerr << "tiller-mission: not armed within " << wait << " s: no START sent\n";
+    return rc;
   });
 }

@@ -29,6 +29,7 @@
 #include <tiller/joystick_state_t.hpp>
 #include <tiller/manual_demand_t.hpp>
 #include <tiller/manual_velocity_cmd_t.hpp>
+#include <tiller/mission_command_t.hpp>
 #include <tiller/odometry_t.hpp>
 #include <tiller/path_progress_t.hpp>
 #include <tiller/path_t.hpp>
@@ -165,11 +166,19 @@ inline Reason check(const controller_mode_t& m) {
   return detail::mode(m.mode) ? nullptr : "mode.unknown";
 }
 
-// arm_request_t, arm_state_t: booleans and text only; always good once decoded.
+// arm_request_t: booleans and text only; always good once decoded. arm_state_t: session >= 0.
 inline Reason check(const arm_request_t&) {
   return nullptr;
 }
-inline Reason check(const arm_state_t&) {
+inline Reason check(const arm_state_t& m) {
+  return m.session >= 0 ? nullptr : "session.range";
+}
+
+// mission_command_t: an id >= 1 and a known command.
+inline Reason check(const mission_command_t& m) {
+  if (m.command_id < 1) return "command_id.range";
+  if (m.command < mission_command_t::START || m.command > mission_command_t::RELEASE)
+    return "command.unknown";
   return nullptr;
 }
 
@@ -200,6 +209,8 @@ inline Reason check(const thruster_command_t& m) {
   if (!detail::source(m.source)) return "source.unknown";
   if (m.n_thrusters < 0 || m.n_thrusters > 16) return "n_thrusters.range";
   if (!detail::within(m.command.data(), m.command.size(), -1, 1)) return "command.range";
+  if (m.gate < thruster_command_t::GATE_DISARMED || m.gate > thruster_command_t::GATE_INPUT_LOST)
+    return "gate.unknown";
   return nullptr;
 }
 

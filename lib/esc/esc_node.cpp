@@ -62,6 +62,7 @@ EscNode::EscNode(esc::EscNodeParams p, std::unique_ptr<esc::EscBackend> backend)
   for (std::size_t i = 0; i < n_; ++i) hw_[i] = backend_->to_hardware(i, 0.0);
   init_messages();
   arm_.armed = false;
+  arm_.session = 0;
   arm_.reason = "disarmed at start";
   set_health(heartbeat_t::STATE_OK, "starting: disarmed, neutral");
 }
@@ -171,6 +172,8 @@ void EscNode::on_command(const thruster_command_t& m, TimeUs now) {
     changed = changed || v != c;
     c = v;
   }
+  arm_allowed_ = m.arm_allowed;
+  if (!m.arm_allowed && hold_ != m.hold) hold_ = m.hold;
   command_freshness_.mark(now);
   command_fresh_ = true;
   // A changed command goes out at once (armed only: disarmed, the cycle's neutral is all there
@@ -219,6 +222,14 @@ void EscNode::on_arm_request(const arm_request_t& m, TimeUs now) {
     publish_arm_state(now);
     return;
   }
+  if (command_freshness_.fresh(now) && !arm_allowed_) {
+    ++*c_arm_refused_;
+    arm_.reason =
+        "arm refused (asked by " + who + "): " + (hold_.empty() ? "mixer says no" : hold_);
+    publish_arm_state(now);
+    return;
+  }
+  ++session_;
   set_armed(true, "armed by " + who, now);
 }
 
@@ -232,6 +243,7 @@ void EscNode::set_armed(bool armed, const std::string& reason, TimeUs now) {
 void EscNode::publish_arm_state(TimeUs now) {
   arm_.utime = now;
   arm_.armed = armed_;
+  arm_.session = session_;
   publish(channels::kArmState, arm_);
 }
 

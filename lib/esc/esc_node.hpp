@@ -10,9 +10,12 @@
 //   * armed: command -> motor = (reversed ? -1 : 1) * trim * command, then the optional slew
 //     limit (slew_per_s); on a reversal the ramp stops at exactly zero for one cycle before
 //     continuing the other way. Disarm, timeout and shutdown go to neutral at once (no ramp).
-// Arming: an arm request arms only while the commands are neutral (|u| <= tolerance for every
-// thruster, or no fresh command); a disarm request always disarms. With disarm_on_timeout the
-// command timeout also disarms.
+// Arming (the arm latch of docs/safety.md): an arm request arms only while the commands are
+// neutral (|u| <= tolerance for every thruster, or no fresh command) AND the latest fresh command
+// says arm_allowed (the mixer's safety gate: the source in control demands neutral; otherwise
+// the refusal on TILLER_ARM_STATE gives the mixer's `hold` reason); a disarm request always
+// disarms. With disarm_on_timeout the command timeout also disarms. Each granted arming gets a
+// new session number (arm_state_t.session).
 // A changed command while armed is also written at once (write_on_command, default on; at most
 // one extra write per min_write_interval, a command held back going out at the next tick, which
 // then comes every min_write_interval), so the stick -> ESC latency does not wait a cycle.
@@ -95,6 +98,9 @@ class EscNode : public Node {
   std::vector<int> cached_map_;            // message index -> ESC index
 
   bool armed_ = false;
+  std::int64_t session_ = 0;
+  bool arm_allowed_ = false;   // the latest command's arm_allowed
+  std::string hold_;           // and its hold reason
   std::vector<double> motor_;  // current (slewed) normalised motor value per ESC
   std::vector<std::int32_t> hw_;
   TimeUs last_cycle_ = 0;

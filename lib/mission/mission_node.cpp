@@ -2,7 +2,9 @@
 
 #include <tiller/arm_request_t.hpp>
 #include <tiller/controller_mode_t.hpp>
+#include <tiller/mission_command_t.hpp>
 
+#include "core/message_checks.hpp"
 #include "runtime/channels.hpp"
 
 namespace tiller::mission {
@@ -13,9 +15,22 @@ MissionNode::MissionNode(const Mission& m, std::int64_t path_id, TimeUs repeat_p
       translation_(m.is_translation),
       arm_(arm) {
   set_health(heartbeat_t::STATE_OK, "publishing " + m.name);
+  subscribe(channels::kArmState, &MissionNode::on_arm_state);
   advertise<path_t>(channels::kPath);
   advertise<controller_mode_t>(channels::kMode);
+  advertise<mission_command_t>(channels::kMissionCommand);
   if (arm_) advertise<arm_request_t>(channels::kArmRequest);
+}
+
+void MissionNode::on_arm_state(const arm_state_t& m, TimeUs now) {
+  if (checks::check(m) != nullptr || !m.armed || start_sent_ || (arm_ && !arm_sent_)) return;
+  mission_command_t c{};
+  c.utime = now;
+  c.command_id = path_.path_id > 0 ? path_.path_id : 1;
+  c.command = mission_command_t::START;
+  c.source = "mission";
+  publish(channels::kMissionCommand, c);
+  start_sent_ = true;
 }
 
 void MissionNode::on_tick(TimeUs now) {
@@ -27,12 +42,13 @@ void MissionNode::on_tick(TimeUs now) {
   mode.is_translation = translation_;
   mode.source = "mission";
   publish(channels::kMode, mode);
-  if (arm_) {
+  if (arm_ && !arm_sent_) {
     arm_request_t a{};
     a.utime = now;
     a.arm = true;
     a.source = "mission";
     publish(channels::kArmRequest, a);
+    arm_sent_ = true;
   }
   ++sent_;
 }

@@ -4,7 +4,11 @@
 #include <cmath>
 #include <filesystem>
 
+#include <tiller/arm_request_t.hpp>
+#include <tiller/controller_mode_t.hpp>
+
 #include "core/checks.hpp"
+#include "core/message_checks.hpp"
 #include "runtime/channels.hpp"
 
 namespace tiller {
@@ -64,6 +68,9 @@ MixerParams load_mixer_params(const config::Value& root) {
     p.arbitration_timeout_us = seconds_key(*f, "arbitration_s", 1.0);
     p.arm_timeout_us = seconds_key(*f, "arm_state_s", 0.5);
   }
+  if (auto f = root.find("safety")) {
+    p.disarm_after_us = from_seconds(f->number_or("disarm_after_s", 3.0, {0.1, 600.0}));
+  }
   return p;
 }
 
@@ -78,7 +85,12 @@ MixerNode::MixerNode(const MixerParams& params, const Vehicle& vehicle)
       alloc_(std::make_unique<Allocator>(vehicle)),
       manual_fresh_(params.manual_timeout_us),
       arb_fresh_(params.arbitration_timeout_us),
-      arm_fresh_(params.arm_timeout_us) {
+      arm_fresh_(params.arm_timeout_us),
+      gate_([&] {
+        safety::GateParams g;
+        g.disarm_after_us = params.disarm_after_us;
+        return g;
+      }()) {
   velocity_.fresh.set_limit(p_.wrench_timeout_us);
   station_.fresh.set_limit(p_.wrench_timeout_us);
   subscribe(channels::kManualDemand, &MixerNode::on_manual);
@@ -86,11 +98,17 @@ MixerNode::MixerNode(const MixerParams& params, const Vehicle& vehicle)
   subscribe(channels::kWrenchStation, &MixerNode::on_wrench_station);
   subscribe(channels::kArbitration, &MixerNode::on_arbitration);
   subscribe(channels::kArmState, &MixerNode::on_arm_state);
+  subscribe(channels::kMissionCommand, &MixerNode::on_mission_command);
   advertise<thruster_command_t>(channels::kThrusterCommand);
   advertise<allocation_status_t>(channels::kAllocationStatus);
+  advertise<arm_request_t>(channels::kArmRequest);  // disarm requests only
   rej_manual_ = &counter("rejected.manual_demand.range");
   rej_wrench_ = &counter("rejected.wrench.range");
   rej_arb_ = &counter("rejected.arbitration.source");
+  rej_mission_ = &counter("rejected.mission_command.invalid");
+  held_neutral_ = &counter("neutral.safety_gate");
+  disarm_requests_ = &counter("safety.disarm_requests");
+  cmd_.hold.reserve(128);
   neutral_disarmed_ = &counter("neutral.disarmed");
   neutral_no_input_ = &counter("neutral.no_valid_input");
   const int n = alloc_->size();
@@ -104,7 +122,7 @@ MixerNode::MixerNode(const MixerParams& params, const Vehicle& vehicle)
   }
   status_.strategy = alloc_->strategy_name();
   alloc_->neutral(result_);
-  set_health(heartbeat_t::STATE_FAULT, "waiting for input and arm state");
+  set_health(heartbeat_t::STATE_OK, "starting: disarmed, neutral");
 }
 
 MixerNode::MixerNode(const std::string& config_path)
@@ -164,11 +182,12 @@ void MixerNode::on_wrench_station(const wrench_t& m, TimeUs now) {
 // source; armed or not), not on every repetition.
 void MixerNode::on_arbitration(const arbitration_t& m, TimeUs now) {
   const std::int8_t before = source_now(now);
-  if (!known_source(m.active_source)) {
+  if (!known_source(m.active_source) || checks::check(m) != nullptr) {
     arb_fresh_.reset();
     reject(*rej_arb_);
   } else {
     arb_source_ = m.active_source;
+    arb_mode_ = m.mode;
     arb_fresh_.mark(now);
   }
   if (p_.publish_every_input || source_now(now) != before) output(now);
@@ -177,8 +196,52 @@ void MixerNode::on_arbitration(const arbitration_t& m, TimeUs now) {
 void MixerNode::on_arm_state(const arm_state_t& m, TimeUs now) {
   const bool before = armed_ && arm_fresh_.fresh(now);
   armed_ = m.armed;
+  session_ = m.session;
   arm_fresh_.mark(now);
   if (p_.publish_every_input || (armed_ && arm_fresh_.fresh(now)) != before) output(now);
+}
+
+void MixerNode::on_mission_command(const mission_command_t& m, TimeUs now) {
+  if (checks::check(m) != nullptr) {
+    reject(*rej_mission_);
+    return;
+  }
+  // Published at once only when it changes what the mixer does (a go while waiting, a release).
+  bool act = false;
+  if (m.command == mission_command_t::START || m.command == mission_command_t::RESUME) {
+    act = gate_.operator_go(m.command_id, now) && gate_.state() == safety::GateState::kWaitNeutral;
+  } else if (m.command == mission_command_t::RELEASE) {
+    act = gate_.operator_release(m.command_id, now);
+  }
+  if (act) output(now);
+}
+
+// The controller the source in control belongs to: the arbitration's mode when it is fresh,
+// else what the fallback source is.
+safety::Controller MixerNode::controller_now(TimeUs now) {
+  if (arb_fresh_.fresh(now)) {
+    if (arb_source_ == wrench_t::SOURCE_NONE && arb_mode_ != controller_mode_t::WAYPOINTING)
+      return safety::Controller::kNone;
+    return arb_mode_ == controller_mode_t::WAYPOINTING ? safety::Controller::kAutonomy
+                                                       : safety::Controller::kPilot;
+  }
+  switch (p_.fallback_source) {
+    case wrench_t::SOURCE_MANUAL_DEMAND:
+      return safety::Controller::kPilot;
+    case wrench_t::SOURCE_NONE:
+      return safety::Controller::kNone;
+    default:
+      return safety::Controller::kAutonomy;
+  }
+}
+
+void MixerNode::request_disarm(const char* why, TimeUs now) {
+  ++*disarm_requests_;
+  arm_request_t r{};
+  r.utime = now;
+  r.arm = false;
+  r.source = std::string("mixer (") + why + ")";
+  publish(channels::kArmRequest, r);
 }
 
 void MixerNode::on_tick(TimeUs now) {
@@ -193,9 +256,23 @@ void MixerNode::shutdown(TimeUs now) {
 void MixerNode::output(TimeUs now) {
   const bool armed = armed_ && arm_fresh_.fresh(now);
   active_ = select_source(arb_fresh_.fresh(now), arb_source_, p_.fallback_source);
+  // The safety gate (lib/safety/intent_gate.hpp).
+  safety::GateInput gi;
+  gi.armed = armed;
+  gi.session = session_;
+  gi.controller = controller_now(now);
+  gi.pilot_fresh = manual_fresh_.fresh(now);
+  for (int i = 0; i < 6; ++i) gi.pilot[static_cast<std::size_t>(i)] = manual_(i);
+  gi.source_fresh = (active_ == wrench_t::SOURCE_MANUAL_DEMAND && gi.pilot_fresh) ||
+                    (active_ == wrench_t::SOURCE_VELOCITY_PID && velocity_.fresh.fresh(now)) ||
+                    (active_ == wrench_t::SOURCE_STATION_KEEP && station_.fresh.fresh(now));
+  const safety::GateOutput g = gate_.step(gi, now);
+  if (g.disarm) request_disarm(g.hold, now);
   bool ok = false;
   if (!armed) {
     ++*neutral_disarmed_;
+  } else if (!g.may_move) {
+    ++*(g.state == safety::GateState::kInputLost ? neutral_no_input_ : held_neutral_);
   } else if (active_ == wrench_t::SOURCE_MANUAL_DEMAND && manual_fresh_.fresh(now)) {
     ok = alloc_->allocate_manual(manual_, result_);
   } else if (active_ == wrench_t::SOURCE_VELOCITY_PID && velocity_.fresh.fresh(now)) {
@@ -217,6 +294,9 @@ void MixerNode::output(TimeUs now) {
 
   cmd_.utime = now;
   cmd_.armed = armed && ok;
+  cmd_.gate = static_cast<std::int8_t>(g.state);
+  cmd_.arm_allowed = g.arm_allowed;
+  cmd_.hold = g.hold;
   cmd_.source = ok ? active_ : wrench_t::SOURCE_NONE;
   for (int i = 0; i < result_.n; ++i)
     cmd_.command[static_cast<std::size_t>(i)] =
@@ -238,14 +318,19 @@ void MixerNode::output(TimeUs now) {
     status_.saturated[static_cast<std::size_t>(i)] = result_.saturated[static_cast<std::size_t>(i)];
   publish(channels::kAllocationStatus, status_);
 
-  const std::int8_t health = ok      ? heartbeat_t::STATE_OK
-                             : armed ? heartbeat_t::STATE_DEGRADED
-                                     : heartbeat_t::STATE_FAULT;
-  if (health != health_) {
+  // Disarmed, or armed and waiting for the source to show neutral, is a normal state (OK);
+  // armed with the source's input missing is DEGRADED.
+  const char* text = ok                  ? "allocating"
+                     : !armed            ? "disarmed: neutral"
+                     : g.hold[0] != '\0' ? g.hold
+                                         : "armed, no valid input: neutral";
+  const std::int8_t health = ok || !armed || g.state == safety::GateState::kWaitNeutral
+                                 ? heartbeat_t::STATE_OK
+                                 : heartbeat_t::STATE_DEGRADED;
+  if (health != health_ || text != health_text_) {
     health_ = health;
-    set_health(health, ok      ? "allocating"
-                       : armed ? "armed, no valid input: neutral"
-                               : "disarmed: neutral");
+    health_text_ = text;
+    set_health(health, text);
   }
 }
 

@@ -6,10 +6,16 @@
 //
 // Inputs: TILLER_MANUAL_DEMAND (normalised stick vector, open loop), TILLER_WRENCH_VELOCITY and
 // TILLER_WRENCH_STATION (wrench, N / N m, body FRD), TILLER_ARBITRATION (which source is
-// active), TILLER_ARM_STATE (tiller-esc is the authority on arming).
+// active), TILLER_ARM_STATE (tiller-esc holds the arm latch), TILLER_MISSION_COMMAND (the
+// operator's START / RESUME / RELEASE for the autonomy).
 // Safety: a message with NaN/inf or out of range is dropped, counted, and makes that input
 // absent at once; an input older than its freshness limit is absent; the active source absent,
-// or no fresh "armed" arm state -> every command 0 (armed = false in the message).
+// or no fresh "armed" arm state -> every command 0 (armed = false in the message). On top, the
+// safety gate (lib/safety/intent_gate.hpp, docs/safety.md) holds thrust neutral until the source
+// in control has shown neutral since arming / taking control / its input coming back / this
+// process starting, says in every command whether tiller-esc may grant an arm request
+// (arm_allowed, hold), and publishes a disarm request on TILLER_ARM_REQUEST when the source in
+// control has given no good input for safety.disarm_after_s (default 3 s) or on RELEASE.
 // Source choice: see select_source() -- the one place that decides.
 #pragma once
 
@@ -21,6 +27,7 @@
 #include <tiller/arbitration_t.hpp>
 #include <tiller/arm_state_t.hpp>
 #include <tiller/manual_demand_t.hpp>
+#include <tiller/mission_command_t.hpp>
 #include <tiller/thruster_command_t.hpp>
 #include <tiller/wrench_t.hpp>
 
@@ -28,6 +35,7 @@
 #include "core/config.hpp"
 #include "core/time.hpp"
 #include "runtime/node.hpp"
+#include "safety/intent_gate.hpp"
 #include "vehicle/vehicle.hpp"
 
 namespace tiller {
@@ -40,6 +48,9 @@ struct MixerParams {
   TimeUs wrench_timeout_us = 500'000;
   TimeUs arbitration_timeout_us = 1'000'000;
   TimeUs arm_timeout_us = 500'000;
+  // safety.disarm_after_s: armed without good input from the source in control this long ->
+  // disarm request (docs/safety.md).
+  TimeUs disarm_after_us = 3'000'000;
   // `publish_at_once`: active_source (default): new input publishes at once only for the active
   // source, and arm-state / arbitration messages only when they change what the mixer does;
   // every_input: every message publishes at once (the behaviour the golden logs were recorded
@@ -72,11 +83,13 @@ class MixerNode : public Node {
   void on_wrench_station(const wrench_t& m, TimeUs now);
   void on_arbitration(const arbitration_t& m, TimeUs now);
   void on_arm_state(const arm_state_t& m, TimeUs now);
+  void on_mission_command(const mission_command_t& m, TimeUs now);
 
   const Allocator& allocator() const { return *alloc_; }
   const AllocationResult& last_result() const { return result_; }
   const thruster_command_t& last_command() const { return cmd_; }
   std::int8_t active_source() const { return active_; }
+  safety::GateState gate_state() const { return gate_.state(); }
   const MixerParams& params() const { return p_; }
 
  private:
@@ -86,6 +99,8 @@ class MixerNode : public Node {
   };
   void on_wrench(WrenchInput& in, std::int8_t source, const wrench_t& m, TimeUs now);
   std::int8_t source_now(TimeUs now);
+  safety::Controller controller_now(TimeUs now);
+  void request_disarm(const char* why, TimeUs now);
   void output(TimeUs now);
 
   MixerParams p_;
@@ -94,7 +109,11 @@ class MixerNode : public Node {
   Wrench manual_ = Wrench::Zero();
   WrenchInput velocity_, station_;
   std::int8_t arb_source_ = wrench_t::SOURCE_NONE;
+  std::int8_t arb_mode_ = 0;
   bool armed_ = false;
+  std::int64_t session_ = 0;
+  safety::IntentGate gate_;
+  const char* health_text_ = nullptr;
   std::int8_t active_ = wrench_t::SOURCE_NONE;
   AllocationResult result_;
   thruster_command_t cmd_{};
@@ -102,6 +121,9 @@ class MixerNode : public Node {
   std::int64_t* rej_manual_;
   std::int64_t* rej_wrench_;
   std::int64_t* rej_arb_;
+  std::int64_t* rej_mission_;
+  std::int64_t* held_neutral_;
+  std::int64_t* disarm_requests_;
   std::int64_t* neutral_disarmed_;
   std::int64_t* neutral_no_input_;
   std::int64_t stale_seen_ = 0;

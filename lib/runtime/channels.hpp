@@ -12,6 +12,7 @@ inline constexpr const char* kArbitration = "TILLER_ARBITRATION";         // arb
 inline constexpr const char* kArmRequest = "TILLER_ARM_REQUEST";          // arm_request_t
 inline constexpr const char* kArmState = "TILLER_ARM_STATE";              // arm_state_t
 inline constexpr const char* kPath = "TILLER_PATH";                       // path_t
+inline constexpr const char* kMissionCommand = "TILLER_MISSION_COMMAND";  // mission_command_t
 inline constexpr const char* kOdometry = "TILLER_ODOMETRY";               // odometry_t
 inline constexpr const char* kGroundTruth = "TILLER_GROUND_TRUTH";        // odometry_t
 inline constexpr const char* kSimState = "TILLER_SIM_STATE";              // sim_state_t

@@ -121,9 +121,12 @@ bool JsDevice::try_open() {
   if (S_ISCHR(st.st_mode)) {
     unsigned char na = 0, nb = 0;
     char nm[128] = {};
-    if (ioctl(fd, JSIOCGAXES, &na) >= 0) state_.n_axes = std::min<int>(na, kJsMaxAxes);
-    if (ioctl(fd, JSIOCGBUTTONS, &nb) >= 0) state_.n_buttons = std::min<int>(nb, kJsMaxButtons);
+    // The counts go into the description only: an axis counts once the driver has reported it
+    // (its INIT event), so an axis whose start-up state has not been read yet is absent, not 0.
+    if (ioctl(fd, JSIOCGAXES, &na) < 0) na = 0;
+    if (ioctl(fd, JSIOCGBUTTONS, &nb) < 0) nb = 0;
     if (ioctl(fd, JSIOCGNAME(sizeof nm - 1), nm) >= 0) description_ = path + " (" + nm + ")";
+    description_ += " [" + std::to_string(na) + " axes, " + std::to_string(nb) + " buttons]";
   }
   state_.axes.assign(static_cast<std::size_t>(state_.n_axes), 0);
   state_.buttons.assign(static_cast<std::size_t>(state_.n_buttons), false);

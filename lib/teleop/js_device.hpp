@@ -13,7 +13,9 @@
 // closed) means unplugged. A regular file is "present" until it is removed (its link count drops
 // to 0); new bytes appended to it are new events (watched with inotify). A FIFO with no writer
 // counts as absent. "Connected" is reported only when the first bytes arrive after opening, so
-// the INIT events (the stick's position at plug-in) are in the first state the node sees.
+// the INIT events (the stick's position at plug-in) are in the first state the node sees. The
+// state's axes and buttons are those reported so far (n_axes = highest axis number seen + 1):
+// a start-up state split over several reads leaves the later axes absent, never 0.
 #pragma once
 
 #include <cstddef>

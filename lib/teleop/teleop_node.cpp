@@ -7,6 +7,7 @@
 
 #include <tiller/arm_request_t.hpp>
 #include <tiller/heartbeat_t.hpp>
+#include <tiller/mission_command_t.hpp>
 
 #include "core/angles.hpp"
 #include "core/message_checks.hpp"
@@ -46,6 +47,7 @@ TeleopNode::TeleopNode(TeleopParams params, Input input)
   advertise<manual_velocity_cmd_t>(channels::kManualVelocity);
   advertise<controller_mode_t>(channels::kMode);
   advertise<arm_request_t>(channels::kArmRequest);
+  advertise<mission_command_t>(channels::kMissionCommand);
   rejected_state_ = &counter("rejected.joystick.malformed");
   bad_js_events_ = &counter("rejected.js_event.bad");
   rejected_odom_ = &counter("rejected.odometry.nan");
@@ -198,6 +200,16 @@ void TeleopNode::on_press(int b, TimeUs now) {
   if (b == k.mode_autonomous) mode_ = controller_mode_t::WAYPOINTING, mode_changed = true;
   if (b == k.toggle_translation) translation_ = !translation_, mode_changed = true;
   if (mode_changed) publish_mode(now);
+  if (b == k.mode_autonomous) {
+    // Pressing the autonomous button is the operator's go for the autonomy (docs/safety.md): an
+    // event, sent once, its id the press time.
+    mission_command_t c;
+    c.utime = now;
+    c.command_id = now > 0 ? now : 1;
+    c.command = mission_command_t::RESUME;
+    c.source = "teleop";
+    publish(channels::kMissionCommand, c);
+  }
   if (b == k.gain_up || b == k.gain_down) {
     const double g = gain_ + (b == k.gain_up ? p_.gain_step : -p_.gain_step);
     gain_ = std::clamp(g, p_.gain_min, p_.gain_max);
@@ -218,6 +230,12 @@ bool TeleopNode::compute_demand() {
     if (!centred_) {
       bool c = true;
       for (const TeleopAxis& a : p_.axes) {
+        // An axis the device has not reported yet is not centred: its position is unknown (the
+        // start-up state can arrive over several reads).
+        if (a.axis >= static_cast<int>(raw_axes_.size())) {
+          c = false;
+          continue;
+        }
         const double x = normalise_axis(axis_raw(a.axis), a.trigger);
         if (std::fabs(x) > a.deadzone) c = false;
       }
@@ -315,6 +333,15 @@ void TeleopNode::on_tick(TimeUs now) {
   if (!mode_sent_ || (p_.mode_repeat > 0 && now - last_mode_sent_ >= p_.mode_repeat)) {
     publish_mode(now);
   }
+}
+
+void TeleopNode::shutdown(TimeUs now) {
+  // Stopping (SIGINT, SIGTERM): a neutral, invalid demand at once, so the mixer does not keep
+  // using the last one until it goes stale.
+  connected_ = false;
+  centred_ = false;
+  compute_demand();
+  publish_outputs(now);
 }
 
 void TeleopNode::update_health() {

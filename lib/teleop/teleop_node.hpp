@@ -14,8 +14,11 @@
 // mode_repeat_hz (default 1 Hz) so a controller started later learns the pilot's mode.
 // Safety: a state with connected=false gives a neutral, invalid demand published at once and
 // a DEGRADED "joystick absent" heartbeat. After (re)connection the output stays neutral and
-// invalid until every mapped axis has been seen inside its deadzone (no jump to a held
-// deflection); buttons held at connection count only after they are released.
+// invalid until every mapped axis has been reported by the device and seen inside its deadzone
+// (no jump to a held deflection; an axis never reported is not centred); buttons held at
+// connection count only after they are released. shutdown() (SIGINT, SIGTERM) publishes a
+// neutral, invalid demand. The mode_autonomous button also sends an operator RESUME on
+// TILLER_MISSION_COMMAND (the autonomy's go, docs/safety.md).
 #pragma once
 
 #include <array>
@@ -46,6 +49,8 @@ class TeleopNode : public Node {
 
   // Live mode: a new state read from the device (or a disconnection) at time `now`.
   void feed(const joystick_state_t& state, TimeUs now);
+  // Publishes a neutral, invalid demand (the process is stopping).
+  void shutdown(TimeUs now) override;
   // Device mode: the js_event records the device parser has dropped so far (unknown type, axis or
   // button number out of range), counted as rejected.js_event.bad. Returns true when it grew.
   bool note_bad_js_events(std::int64_t total);

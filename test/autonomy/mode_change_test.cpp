@@ -18,6 +18,7 @@
 #include <tiller/controller_mode_t.hpp>
 #include <tiller/manual_demand_t.hpp>
 #include <tiller/manual_velocity_cmd_t.hpp>
+#include <tiller/mission_command_t.hpp>
 #include <tiller/pid_terms_t.hpp>
 #include <tiller/wrench_t.hpp>
 
@@ -185,8 +186,29 @@ ModeRun run_modes(const std::string& vehicle_name, std::vector<Change> changes, 
       }
       ex.inject(channels::kMode, mode, t);
     }
-    stick.utime = t;
-    ex.inject(channels::kManualDemand, stick, t);
+    // The pilot's stick is held, except while the pilot centres it: before arming, and for
+    // 0.3 s after each switch back to a manual mode (the safety gate, docs/safety.md, holds
+    // thrust neutral until then). A switch to waypointing comes with the operator's go (as the
+    // teleop's autonomous button sends).
+    bool centring = t < 500'000;
+    for (std::size_t k = 1; k < r.changes.size(); ++k) {
+      const TimeUs ct = from_seconds(r.changes[k].t);
+      if (r.changes[k].mode != controller_mode_t::WAYPOINTING && t >= ct && t < ct + 300'000)
+        centring = true;
+      if (r.changes[k].mode == controller_mode_t::WAYPOINTING && t == ct) {
+        mission_command_t go{};
+        go.utime = t;
+        go.command_id = static_cast<std::int64_t>(k);
+        go.command = mission_command_t::RESUME;
+        go.source = "mode-test";
+        ex.inject(channels::kMissionCommand, go, t);
+      }
+    }
+    manual_demand_t held = stick;
+    if (centring)
+      for (double& v : held.demand) v = 0;
+    held.utime = t;
+    ex.inject(channels::kManualDemand, held, t);
     pilot.utime = t;
     ex.inject(channels::kManualVelocity, pilot, t);
   }
@@ -214,11 +236,12 @@ TEST(ModeChange, ManualToWaypointingBlendsFromTheStickAndBackIsInstant) {
     // Taking over from the stick: integrators at zero, no thrust step.
     EXPECT_TRUE(to_auto.i_zero_on_entry);
     EXPECT_LT(to_auto.max_step, bound);  // N per mixer output, within 2 s
-    // Back to the stick: it is in force at the first allocation after the switch.
-    EXPECT_TRUE(to_manual.stick_at_once);
+    // Back to the stick: a held stick is NOT in force at the switch; the safety gate holds
+    // neutral until the pilot has centred it (docs/safety.md).
+    EXPECT_FALSE(to_manual.stick_at_once);
     std::printf(
         "%s: manual -> waypointing: largest step %.1f N in 2 s (%.1f N without the blend); "
-        "waypointing -> manual: %.1f N (instant by design); elsewhere up to %.1f N\n",
+        "waypointing -> manual: %.1f N (neutral until centred); elsewhere up to %.1f N\n",
         v, to_auto.max_step, to_auto.unblended_jump, to_manual.max_step, r.max_step_steady);
   }
 }
@@ -246,8 +269,10 @@ TEST(ModeChange, ClosedLoopToWaypointingAndBackBlendsWithIntegratorsReset) {
       // The integrator had built up under the previous command, and is zero on the switch tick.
       EXPECT_GT(c->i_before, 0.0);
       EXPECT_TRUE(c->i_zero_on_entry);
-      EXPECT_LT(c->max_step, bound);  // N per mixer output, within 2 s
     }
+    // N per mixer output, within 2 s. Back to the pilot the safety gate holds neutral until
+    // the stick is centred (0.3 s here), so that hand-over is a hold, not a blend.
+    EXPECT_LT(to_auto.max_step, bound);
     std::printf(
         "%s closed loop: manual -> waypointing: largest step %.1f N in 2 s (%.1f N without the "
         "blend); waypointing -> manual: %.1f N (%.1f N without); elsewhere up to %.1f N\n",

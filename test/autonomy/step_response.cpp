@@ -2,6 +2,7 @@
 
 #include <tiller/arm_request_t.hpp>
 #include <tiller/controller_mode_t.hpp>
+#include <tiller/manual_demand_t.hpp>
 #include <tiller/manual_velocity_cmd_t.hpp>
 #include <tiller/odometry_t.hpp>
 
@@ -49,9 +50,13 @@ StepResult velocity_step(const std::string& control_file, double command,
     arm.utime = t;
     ex.inject(channels::kArmRequest, arm, t);
   }
+  manual_demand_t centred{};  // the teleop's stick, centred: the safety gate's start condition
+  centred.valid = true;
   for (TimeUs t = 0; t <= end; t += 50'000) {
     m.utime = t;
     ex.inject(channels::kManualVelocity, m, t);
+    centred.utime = t;
+    ex.inject(channels::kManualDemand, centred, t);
   }
   ex.run_until(end);
   double sum = 0;

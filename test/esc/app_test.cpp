@@ -136,6 +136,7 @@ TEST(EscApp, DryRunArmsWritesAndWritesNeutralOnSigterm) {
 
   thruster_command_t cmd{};
   cmd.armed = false;
+  cmd.arm_allowed = true;
   cmd.n_thrusters = 4;
   cmd.names = {"t1", "t2", "t3", "t4"};
   cmd.command = {0, 0, 0, 0};

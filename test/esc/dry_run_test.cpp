@@ -39,6 +39,7 @@ struct DryRig {
     thruster_command_t m{};
     m.utime = t;
     m.armed = true;
+    m.arm_allowed = true;
     m.n_thrusters = static_cast<std::int32_t>(u.size());
     m.names = names;
     m.command = u;

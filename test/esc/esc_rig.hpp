@@ -116,6 +116,7 @@ struct Rig {
     m.n_thrusters = static_cast<std::int32_t>(u.size());
     m.names = names;
     m.command = u;
+    m.arm_allowed = true;  // as the mixer says when its source in control is neutral
     send(channels::kThrusterCommand, m);
   }
   void arm(bool on, const std::string& source = "test") {

@@ -62,6 +62,7 @@ struct Steady {
     node->attach(&null);
     thruster_command_t c{};
     c.armed = true;
+    c.arm_allowed = true;
     c.n_thrusters = n;
     c.names = names;
     for (int i = 0; i < n; ++i) c.command.push_back(0.1 * (i % 5) - 0.2);

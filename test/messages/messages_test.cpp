@@ -23,6 +23,7 @@
 #include <tiller/joystick_state_t.hpp>
 #include <tiller/manual_demand_t.hpp>
 #include <tiller/manual_velocity_cmd_t.hpp>
+#include <tiller/mission_command_t.hpp>
 #include <tiller/odometry_t.hpp>
 #include <tiller/path_progress_t.hpp>
 #include <tiller/path_t.hpp>
@@ -167,9 +168,20 @@ TEST(Messages, ModeArbitrationArm) {
   arm_state_t s{};
   s.utime = 10;
   s.armed = true;
+  s.session = 3;
   s.reason = "armed by teleop";
   const auto rs = round_trip(s);
   EXPECT_TRUE(rs.armed);
+  EXPECT_EQ(rs.session, 3);
+  mission_command_t mc{};
+  mc.utime = 11;
+  mc.command_id = 1234567;
+  mc.command = mission_command_t::PAUSE;
+  mc.source = "tiller-mission";
+  const auto rmc = round_trip(mc);
+  EXPECT_EQ(rmc.command_id, 1234567);
+  EXPECT_EQ(rmc.command, mission_command_t::PAUSE);
+  EXPECT_EQ(rmc.source, "tiller-mission");
   EXPECT_EQ(rs.reason, s.reason);
 }
 

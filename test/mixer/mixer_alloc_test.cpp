@@ -38,7 +38,8 @@ class Feeder : public Node {
     publish(channels::kWrenchVelocity, wrench_);
     publish(channels::kWrenchStation, wrench_);
     arm_.utime = now;
-    if (k_ % 10 == 0) publish(channels::kArmState, arm_);
+    // From the first tick, when the stick is centred (sin 0): the safety gate opens at once.
+    if (k_ % 10 == 0 || k_ == 1) publish(channels::kArmState, arm_);
     if (k_ % 50 == 0) {
       arb_.utime = now;
       arb_.active_source = static_cast<std::int8_t>(1 + (k_ / 50) % 3);

@@ -99,14 +99,16 @@ TEST(MixerApp, FollowsTheStickOnceArmedOverLcm) {
   EXPECT_FALSE(rx.last.armed);
   ASSERT_EQ(rx.last.n_thrusters, 6);
   for (double c : rx.last.command) EXPECT_EQ(c, 0.0);
-  // Arm (as tiller-esc would) and push the stick forward.
+  // Arm (as tiller-esc would), the stick centred for the first feeds (the safety gate's start
+  // condition, docs/safety.md), then forward.
+  int feeds = 0;
   auto feed = [&] {
     arm_state_t a{};
     a.armed = true;
     a.reason = "test";
     l.publish(channels::kArmState, &a);
     manual_demand_t m{};
-    m.demand[0] = 0.5;
+    m.demand[0] = ++feeds > 5 ? 0.5 : 0.0;
     m.valid = true;
     l.publish(channels::kManualDemand, &m);
   };

@@ -11,6 +11,8 @@
 #include <random>
 #include <vector>
 
+#include <tiller/controller_mode_t.hpp>
+
 #include "mixer/mixer_node.hpp"
 #include "runtime/channels.hpp"
 #include "runtime/lockstep.hpp"
@@ -34,6 +36,7 @@ class MixerTest : public ::testing::Test {
   }
   void start_file(const std::string& path) {
     seen.clear();
+    gate_met = false;
     statuses = 0;
     node = std::make_unique<MixerNode>(path);
     ex = std::make_unique<LockstepExecutor>(0);
@@ -49,12 +52,28 @@ class MixerTest : public ::testing::Test {
       }
     });
   }
+  // Arms, and meets the safety gate's start condition (lib/safety/intent_gate.hpp, tested on its
+  // own in test/safety): a centred stick for the pilot, an operator START for the autonomy.
   void arm(TimeUs at, bool armed = true) {
     arm_state_t a{};
     a.utime = at;
     a.armed = armed;
+    a.session = 1;
     ex->inject(channels::kArmState, a, at);
+    if (!armed || gate_met) return;
+    gate_met = true;
+    manual(at, 0, 0);
+    go(at);
   }
+  void go(TimeUs at) {
+    mission_command_t g{};
+    g.utime = at;
+    g.command_id = ++go_id;
+    g.command = mission_command_t::START;
+    ex->inject(channels::kMissionCommand, g, at);
+  }
+  bool gate_met = false;
+  std::int64_t go_id = 0;
   void manual(TimeUs at, double x, double y, double n = 0, bool valid = true) {
     manual_demand_t m{};
     m.utime = at;
@@ -77,8 +96,12 @@ class MixerTest : public ::testing::Test {
     arbitration_t a{};
     a.utime = at;
     a.active_source = source;
+    a.mode = source == wrench_t::SOURCE_VELOCITY_PID || source == wrench_t::SOURCE_STATION_KEEP
+                 ? controller_mode_t::WAYPOINTING
+                 : controller_mode_t::MANUAL_OPEN_LOOP;
     a.reason = "test";
     ex->inject(channels::kArbitration, a, at);
+    if (a.mode == controller_mode_t::WAYPOINTING) go(at);
   }
   bool neutral(const thruster_command_t& c) {
     for (double v : c.command)
@@ -147,6 +170,8 @@ TEST_F(MixerTest, StaleInputsBecomeNeutral) {
   EXPECT_GE(node->stale(), 1);
   EXPECT_GT(node->counter_value("neutral.no_valid_input"), 0);
   // A stale arm state also means neutral: stick fresh again, esc silent.
+  // (the stick came back after being stale: the gate wants it centred first)
+  manual(2'080'000, 0, 0);
   for (TimeUs t = 2'100'000; t <= 3'000'000; t += 20'000) manual(t, 0.5, 0);
   ex->run_until(2'450'000);
   EXPECT_FALSE(neutral(seen.back().cmd));
@@ -206,7 +231,9 @@ TEST_F(MixerTest, ArbitrationChoosesTheWrenchAndNanGivesNeutral) {
   ex->run_until(50'000);
   EXPECT_TRUE(neutral(seen.back().cmd));
   // Arbitration goes stale (1 s): fallback_source manual_demand.
+  // The pilot takes over again: centred first (the safety gate), then the stick.
   for (TimeUs t = 100'000; t <= 3'000'000; t += 50'000) manual(t, 0.3, 0);
+  manual(1'060'000, 0, 0);
   ex->run_until(1'100'000);
   EXPECT_EQ(seen.back().cmd.source, wrench_t::SOURCE_MANUAL_DEMAND);
   EXPECT_FALSE(neutral(seen.back().cmd));
@@ -265,7 +292,8 @@ TEST_F(MixerTest, EveryMixerConfigIsNeutralOnStaleAndNanInput) {
     EXPECT_TRUE(neutral(seen.back().cmd));
     EXPECT_GT(node->counter_value("neutral.no_valid_input"), 0);
     EXPECT_GE(node->stale(), 1);
-    // NaN stick: neutral at once, counted.
+    // NaN stick: neutral at once, counted (the stick back: centred first, the safety gate).
+    manual(990'000, 0, 0);
     manual(1'000'000, 0.5, 0.3);
     ex->run_until(1'000'000);
     EXPECT_FALSE(neutral(seen.back().cmd));
@@ -340,10 +368,11 @@ TEST_F(MixerTest, PublishesAtOnceOnlyForTheActiveSourceAndForChanges) {
   }
   ex->run_until(1'199'999);
   // 200 ms to 1.2 s: 50 ticks + 100 velocity wrenches + re-arming and the switch back to
-  // velocity_pid at 200 ms; nothing for the 100 station wrenches, 100 sticks, 10 + 10 repeats.
+  // velocity_pid at 200 ms, and the operator START that opens the safety gate after re-arming;
+  // nothing for the 100 station wrenches, 100 sticks, 10 + 10 repeats.
   std::size_t in_window = 0;
   for (const auto& s : seen) in_window += s.t >= 200'000 && s.t < 1'200'000 ? 1 : 0;
-  EXPECT_EQ(in_window, 50u + 100u + 2u);
+  EXPECT_EQ(in_window, 50u + 100u + 3u);
 }
 
 TEST_F(MixerTest, PublishAtOnceEveryInputIsTheOldBehaviourOnRequest) {

@@ -24,6 +24,7 @@
 #include <tiller/joystick_state_t.hpp>
 #include <tiller/manual_demand_t.hpp>
 #include <tiller/manual_velocity_cmd_t.hpp>
+#include <tiller/mission_command_t.hpp>
 #include <tiller/odometry_t.hpp>
 #include <tiller/path_progress_t.hpp>
 #include <tiller/path_t.hpp>
@@ -149,6 +150,9 @@ std::map<std::string, std::function<void()>> checks() {
       m.n_velocity_cov = 36;
       m.velocity_covariance.assign(36, 0.02);
     });
+  };
+  c["mission_command_t"] = [] {
+    check<mission_command_t>([](auto& m) { m.source = "tiller-mission"; });
   };
   c["path_progress_t"] = [] { check<path_progress_t>([](auto& m) { m.segment = 2; }); };
   c["path_t"] = [] {

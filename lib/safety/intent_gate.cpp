@@ -1,0 +1,134 @@
+#include "safety/intent_gate.hpp"
+
+#include <cmath>
+#include <cstdio>
+
+#include <tiller/thruster_command_t.hpp>
+
+namespace tiller::safety {
+
+static_assert(static_cast<int>(GateState::kDisarmed) == thruster_command_t::GATE_DISARMED);
+static_assert(static_cast<int>(GateState::kWaitNeutral) == thruster_command_t::GATE_WAIT_NEUTRAL);
+static_assert(static_cast<int>(GateState::kActive) == thruster_command_t::GATE_ACTIVE);
+static_assert(static_cast<int>(GateState::kInputLost) == thruster_command_t::GATE_INPUT_LOST);
+
+namespace {
+constexpr const char* kAxisNames[6] = {"surge", "sway", "heave", "roll", "pitch", "yaw"};
+}
+
+bool IntentGate::is_new_id(std::int64_t id) {
+  for (const std::int64_t s : seen_ids_)
+    if (s == id && id != 0) return false;
+  seen_ids_[next_id_slot_] = id;
+  next_id_slot_ = (next_id_slot_ + 1) % seen_ids_.size();
+  return true;
+}
+
+bool IntentGate::operator_go(std::int64_t command_id, TimeUs) {
+  if (!is_new_id(command_id)) return false;
+  go_pending_ = true;
+  return true;
+}
+
+bool IntentGate::operator_release(std::int64_t command_id, TimeUs) {
+  if (!is_new_id(command_id)) return false;
+  release_pending_ = true;
+  return true;
+}
+
+GateOutput IntentGate::step(const GateInput& in, TimeUs now) {
+  GateOutput out;
+  // Whether the pilot's demand is centred (and, if not, the first axis that is not).
+  int off_axis = -1;
+  if (in.pilot_fresh) {
+    for (int i = 0; i < 6 && off_axis < 0; ++i)
+      if (!(std::fabs(in.pilot[static_cast<std::size_t>(i)]) <= p_.neutral_tolerance)) off_axis = i;
+  }
+  const bool pilot_neutral = in.pilot_fresh && off_axis < 0;
+
+  // arm_allowed and its reason, whatever the state.
+  const char* refuse = "";
+  if (in.controller == Controller::kPilot) {
+    if (off_axis >= 0) {
+      std::snprintf(buf_, sizeof buf_, "pilot demand not neutral (%s %+.2f)", kAxisNames[off_axis],
+                    in.pilot[static_cast<std::size_t>(off_axis)]);
+      refuse = buf_;
+    }
+  }
+  out.arm_allowed = refuse[0] == '\0';
+
+  if (!in.armed) {
+    enter(GateState::kDisarmed);
+    go_pending_ = false;
+    release_pending_ = false;
+    disarm_sent_ = false;
+    session_ = -1;
+    out.state = state_;
+    out.hold = refuse;
+    return out;
+  }
+  // Armed. A new arming, or another controller, starts over from WAIT_NEUTRAL.
+  if (state_ == GateState::kDisarmed || in.session != session_ || in.controller != controller_) {
+    if (state_ == GateState::kDisarmed || in.session != session_) {
+      disarm_sent_ = false;
+      last_good_ = now;
+    }
+    session_ = in.session;
+    controller_ = in.controller;
+    enter(GateState::kWaitNeutral);
+  }
+
+  const bool pilot = controller_ == Controller::kPilot;
+  const bool autonomy = controller_ == Controller::kAutonomy;
+  const bool input_ok = pilot ? in.pilot_fresh && in.source_fresh : autonomy && in.source_fresh;
+  if (input_ok) last_good_ = now;
+
+  switch (state_) {
+    case GateState::kWaitNeutral:
+      if (pilot && pilot_neutral && in.source_fresh) {
+        enter(GateState::kActive);
+        go_pending_ = false;  // the pilot took control: a later switch to autonomy needs a new go
+      } else if (autonomy && go_pending_) {
+        enter(input_ok ? GateState::kActive : GateState::kInputLost);
+        go_pending_ = false;
+      }
+      break;
+    case GateState::kActive:
+      if (!input_ok) enter(GateState::kInputLost);
+      break;
+    case GateState::kInputLost:
+      if (input_ok)
+        enter(pilot ? (pilot_neutral ? GateState::kActive : GateState::kWaitNeutral)
+                    : GateState::kActive);
+      break;
+    case GateState::kDisarmed:
+      break;
+  }
+
+  out.state = state_;
+  out.may_move = state_ == GateState::kActive;
+  if (state_ == GateState::kWaitNeutral) {
+    out.hold = pilot      ? (in.pilot_fresh ? "armed: waiting for the stick to be centred"
+                                            : "armed: waiting for pilot input (stick centred)")
+               : autonomy ? "armed: waiting for an operator START or RESUME"
+                          : "armed: no source in control";
+  } else if (state_ == GateState::kInputLost) {
+    out.hold = pilot ? "armed: pilot input lost: neutral" : "armed: autonomy input lost: neutral";
+  }
+  if (!out.may_move && refuse[0] != '\0' && state_ != GateState::kInputLost) out.hold = refuse;
+
+  const bool timed_out = !input_ok && now - last_good_ >= p_.disarm_after_us;
+  // Once, then again every second while tiller-esc still says armed (a lost request).
+  if ((timed_out || release_pending_) && (!disarm_sent_ || now - disarm_sent_at_ >= kUsPerSecond)) {
+    if (!disarm_sent_) ++disarms_;
+    disarm_sent_ = true;
+    disarm_sent_at_ = now;
+    out.disarm = true;
+    out.hold = release_pending_ ? "operator release: disarming"
+               : pilot          ? "pilot input lost: disarming"
+                                : "autonomy input lost: disarming";
+  }
+  return out;
+}
+
+}  // namespace tiller::safety

@@ -1,0 +1,189 @@
+// safety::IntentGate, the safety model's state machine (docs/safety.md), on hand-computed
+// sequences: each step's state, may_move, arm_allowed and disarm request.
+#include <gtest/gtest.h>
+
+#include <string>
+
+#include "safety/intent_gate.hpp"
+
+namespace tiller::safety {
+namespace {
+
+constexpr TimeUs kMs = 1000;
+
+GateInput pilot(bool armed, std::int64_t session, bool fresh, double surge) {
+  GateInput in;
+  in.armed = armed;
+  in.session = session;
+  in.controller = Controller::kPilot;
+  in.pilot_fresh = fresh;
+  in.pilot[0] = surge;
+  in.source_fresh = fresh;
+  return in;
+}
+
+GateInput autonomy(bool armed, std::int64_t session, bool fresh) {
+  GateInput in;
+  in.armed = armed;
+  in.session = session;
+  in.controller = Controller::kAutonomy;
+  in.source_fresh = fresh;
+  return in;
+}
+
+TEST(IntentGate, ArmingIsRefusedWhileThePilotDemandIsNotNeutral) {
+  IntentGate g;
+  GateOutput o = g.step(pilot(false, 0, true, 1.0), 0);
+  EXPECT_EQ(o.state, GateState::kDisarmed);
+  EXPECT_FALSE(o.arm_allowed);
+  EXPECT_EQ(std::string(o.hold), "pilot demand not neutral (surge +1.00)");
+  // No pilot input (joystick absent or not centred): arming allowed, thrust waits (below).
+  o = g.step(pilot(false, 0, false, 0.0), 10 * kMs);
+  EXPECT_TRUE(o.arm_allowed);
+  o = g.step(pilot(true, 1, false, 0.0), 15 * kMs);
+  EXPECT_EQ(o.state, GateState::kWaitNeutral);
+  EXPECT_FALSE(o.may_move);
+  o = g.step(pilot(false, 1, true, 0.0), 18 * kMs);
+  o = g.step(pilot(false, 0, true, 0.0), 20 * kMs);
+  EXPECT_TRUE(o.arm_allowed);
+  EXPECT_FALSE(o.may_move);
+}
+
+TEST(IntentGate, AfterArmingThrustWaitsForACentredStick) {
+  IntentGate g;
+  g.step(pilot(false, 0, true, 0.0), 0);
+  // Armed while neutral, then the stick moves: active at once (neutral shown at arming).
+  GateOutput o = g.step(pilot(true, 1, true, 0.0), 10 * kMs);
+  EXPECT_EQ(o.state, GateState::kActive);
+  EXPECT_TRUE(o.may_move);
+  o = g.step(pilot(true, 1, true, 0.7), 20 * kMs);
+  EXPECT_TRUE(o.may_move);
+  // A new session (re-armed, the disarmed state missed) with the stick held: wait.
+  o = g.step(pilot(true, 2, true, 0.7), 30 * kMs);
+  EXPECT_EQ(o.state, GateState::kWaitNeutral);
+  EXPECT_FALSE(o.may_move);
+  EXPECT_EQ(std::string(o.hold), "pilot demand not neutral (surge +0.70)");
+  o = g.step(pilot(true, 2, true, 0.0), 40 * kMs);
+  EXPECT_EQ(o.state, GateState::kActive);
+  o = g.step(pilot(true, 2, true, -0.3), 50 * kMs);
+  EXPECT_TRUE(o.may_move);
+}
+
+TEST(IntentGate, ARestartedMixerWaitsForNeutralEvenIfArmed) {
+  IntentGate g;  // a new process: the first arm state it sees says armed, stick held
+  GateOutput o = g.step(pilot(true, 7, true, 1.0), 0);
+  EXPECT_EQ(o.state, GateState::kWaitNeutral);
+  EXPECT_FALSE(o.may_move);
+  o = g.step(pilot(true, 7, true, 0.0), 20 * kMs);
+  EXPECT_TRUE(o.may_move);
+}
+
+TEST(IntentGate, PilotLinkLossGivesNeutralThenDisarmAndReturnNeedsCentring) {
+  GateParams p;
+  p.disarm_after_us = 3000 * kMs;
+  IntentGate g(p);
+  g.step(pilot(true, 1, true, 0.0), 0);
+  GateOutput o = g.step(pilot(true, 1, true, 0.5), 100 * kMs);  // last good input at 0.1 s
+  EXPECT_TRUE(o.may_move);
+  o = g.step(pilot(true, 1, false, 0.0), 700 * kMs);  // stale
+  EXPECT_EQ(o.state, GateState::kInputLost);
+  EXPECT_FALSE(o.may_move);
+  EXPECT_FALSE(o.disarm);
+  o = g.step(pilot(true, 1, false, 0.0), 3099 * kMs);
+  EXPECT_FALSE(o.disarm);
+  o = g.step(pilot(true, 1, false, 0.0), 3100 * kMs);  // 3 s after the last good input
+  EXPECT_TRUE(o.disarm);
+  EXPECT_EQ(std::string(o.hold), "pilot input lost: disarming");
+  EXPECT_EQ(g.disarms(), 1);
+  o = g.step(pilot(true, 1, false, 0.0), 3500 * kMs);
+  EXPECT_FALSE(o.disarm);  // not every step
+  o = g.step(pilot(true, 1, false, 0.0), 4100 * kMs);
+  EXPECT_TRUE(o.disarm);  // again a second later: tiller-esc still says armed
+  EXPECT_EQ(g.disarms(), 1);
+  // Input back with the stick held before the disarm took effect: still neutral.
+  o = g.step(pilot(true, 1, true, 0.8), 4200 * kMs);
+  EXPECT_EQ(o.state, GateState::kWaitNeutral);
+  EXPECT_FALSE(o.may_move);
+  o = g.step(pilot(true, 1, true, 0.0), 4300 * kMs);
+  EXPECT_TRUE(o.may_move);
+}
+
+TEST(IntentGate, ShortPilotLossReturningCentredResumes) {
+  IntentGate g;
+  g.step(pilot(true, 1, true, 0.0), 0);
+  g.step(pilot(true, 1, false, 0.0), 600 * kMs);
+  const GateOutput o = g.step(pilot(true, 1, true, 0.0), 900 * kMs);
+  EXPECT_EQ(o.state, GateState::kActive);
+  EXPECT_FALSE(o.disarm);
+}
+
+TEST(IntentGate, AutonomyMovesOnlyAfterAnOperatorStartWhileArmed) {
+  IntentGate g;
+  EXPECT_TRUE(g.step(autonomy(false, 0, true), 0).arm_allowed);  // its thrust waits for START
+  EXPECT_TRUE(g.operator_go(42, 5 * kMs));  // START before arming: not carried over
+  g.step(autonomy(false, 0, true), 5 * kMs);
+  GateOutput o = g.step(autonomy(true, 1, true), 10 * kMs);
+  EXPECT_EQ(o.state, GateState::kWaitNeutral);
+  EXPECT_EQ(std::string(o.hold), "armed: waiting for an operator START or RESUME");
+  EXPECT_FALSE(g.operator_go(42, 20 * kMs));  // the same id again: ignored
+  o = g.step(autonomy(true, 1, true), 20 * kMs);
+  EXPECT_FALSE(o.may_move);
+  EXPECT_TRUE(g.operator_go(43, 30 * kMs));
+  o = g.step(autonomy(true, 1, true), 30 * kMs);
+  EXPECT_EQ(o.state, GateState::kActive);
+  EXPECT_TRUE(o.may_move);
+  // Input lost: neutral; back: active again without a new START.
+  o = g.step(autonomy(true, 1, false), 600 * kMs);
+  EXPECT_EQ(o.state, GateState::kInputLost);
+  o = g.step(autonomy(true, 1, true), 700 * kMs);
+  EXPECT_TRUE(o.may_move);
+  // A restart of the mixer (a new gate) while armed: waits for an operator again.
+  IntentGate fresh;
+  EXPECT_FALSE(fresh.step(autonomy(true, 1, true), 800 * kMs).may_move);
+}
+
+TEST(IntentGate, ControllerChangeStartsOver) {
+  IntentGate g;
+  g.step(pilot(true, 1, true, 0.0), 0);
+  EXPECT_TRUE(g.step(pilot(true, 1, true, 0.4), 10 * kMs).may_move);
+  // The pilot switches to autonomy: no thrust until an operator go.
+  GateOutput o = g.step(autonomy(true, 1, true), 20 * kMs);
+  EXPECT_EQ(o.state, GateState::kWaitNeutral);
+  g.operator_go(9, 30 * kMs);
+  EXPECT_TRUE(g.step(autonomy(true, 1, true), 30 * kMs).may_move);
+  // Back to the pilot with the stick held: wait for centring.
+  o = g.step(pilot(true, 1, true, 0.4), 40 * kMs);
+  EXPECT_FALSE(o.may_move);
+  EXPECT_TRUE(g.step(pilot(true, 1, true, 0.0), 50 * kMs).may_move);
+}
+
+TEST(IntentGate, ReleaseRequestsADisarmAndDisarmingClearsEverything) {
+  IntentGate g;
+  g.step(autonomy(true, 1, true), 0);
+  g.operator_go(1, 0);
+  EXPECT_TRUE(g.step(autonomy(true, 1, true), 10 * kMs).may_move);
+  g.operator_release(2, 20 * kMs);
+  GateOutput o = g.step(autonomy(true, 1, true), 20 * kMs);
+  EXPECT_TRUE(o.disarm);
+  EXPECT_EQ(std::string(o.hold), "operator release: disarming");
+  o = g.step(autonomy(false, 1, true), 30 * kMs);
+  EXPECT_EQ(o.state, GateState::kDisarmed);
+  EXPECT_FALSE(o.disarm);
+  o = g.step(autonomy(true, 2, true), 40 * kMs);
+  EXPECT_FALSE(o.disarm);  // the release was for the old arming
+  EXPECT_FALSE(o.may_move);
+}
+
+TEST(IntentGate, NoInputAtAllAfterArmingDisarmsAfterTheLimit) {
+  IntentGate g;
+  GateOutput o = g.step(autonomy(true, 1, false), 1000 * kMs);
+  EXPECT_FALSE(o.disarm);
+  o = g.step(autonomy(true, 1, false), 3999 * kMs);
+  EXPECT_FALSE(o.disarm);
+  o = g.step(autonomy(true, 1, false), 4000 * kMs);
+  EXPECT_TRUE(o.disarm);
+  EXPECT_EQ(std::string(o.hold), "autonomy input lost: disarming");
+}
+
+}  // namespace
+}  // namespace tiller::safety
