@@ -101,7 +101,7 @@ class Checker {
       ++escs;
       mine.push_back(p.filename().string());
       attempt(p.string(), [&] {
-        const auto c = load_esc_config_file(p.string());
+        const auto c = esc::load_esc_config_file(p.string());
         if (!same_file(c.vehicle_file, vehicle_))
           throw config::Error("vehicle: names " + c.vehicle_file + ", not " + vehicle_);
         return "tiller-esc: backend " + c.backend + ", " + std::to_string(c.escs.size()) +
