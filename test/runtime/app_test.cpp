@@ -139,7 +139,6 @@ TEST(App, NumberAndIntegerOptionsAreCheckedWhole) {
         << bad;
 }
 
-
 // The helpers tiller-launch and tiller-replay each had a copy of.
 TEST(App, SplitListAndExplicitlyGivenOptions) {
   EXPECT_EQ(split_list("a,b,,c,"), (std::vector<std::string>{"a", "b", "c"}));
