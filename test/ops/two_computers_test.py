@@ -61,13 +61,13 @@ def holder():
     raise RuntimeError("unshare -n did not start")
 
 
-def mixer_manual_limit_s():
-    """freshness.manual_demand_s of the vehicle's mixer config (the mixer's default: 0.5 s)."""
+def mixer_freshness_s(key, default):
+    """freshness.<key> of the vehicle's mixer config, or the mixer's default."""
     for line in open(os.path.join(src, "config/mixer/seed000_rov4.yaml")):
         s = line.split("#")[0]
-        if "manual_demand_s:" in s:
-            return float(s.split("manual_demand_s:")[1].strip().rstrip("}").split(",")[0])
-    return 0.5
+        if key + ":" in s:
+            return float(s.split(key + ":")[1].strip().rstrip("}").split(",")[0])
+    return default
 
 
 # ---- the network: two namespaces, one veth pair, multicast routed over it, nothing else.
@@ -127,7 +127,8 @@ def press(b):
 
 ARM = 6  # the Extreme 3D Pro's base button 7 (config/teleop/extreme3dpro_seed000.yaml)
 FWD = 1  # its Y axis: -32767 is full forward
-LINK_DOWN_S = 6.0
+DISARM_AFTER_S = mixer_freshness_s("disarm_after_s", 3.0)  # the longer pilot-input limit
+LINK_DOWN_S = DISARM_AFTER_S + 3.0
 
 try:
     time.sleep(3.0)  # every process up, teleop waiting for its device
@@ -199,7 +200,7 @@ def armed(r):
 
 measured = {}
 if tcol:
-    limit = mixer_manual_limit_s()
+    limit = mixer_freshness_s("manual_demand_s", 0.5)
     cut, restore, centre, push2 = marks["cut"], marks["restore"], marks["centre"], marks["push2"]
     flying = [r for r in esc if marks["push"] + 0.3 <= t(r) < cut]
     if not any(moving(r) for r in flying):
@@ -220,6 +221,13 @@ if tcol:
     disarm = next((r for r in arm if cut <= float(r[tcol]) / 1e6 < restore and not armed(r)), None)
     if disarm is not None:
         measured["disarm_s"] = float(disarm[tcol]) / 1e6 - cut
+        # Disarm after the longer limit, counted from the last input heard or from its loss.
+        if not neutral_only and measured["disarm_s"] > limit + DISARM_AFTER_S + 0.2:
+            fail(f"disarm {measured['disarm_s']:.3f} s after the cut: limit "
+                 f"{limit} + {DISARM_AFTER_S} s")
+        if not neutral_only and measured["disarm_s"] < DISARM_AFTER_S - 0.2:
+            fail(f"disarm {measured['disarm_s']:.3f} s after the cut, before the "
+                 f"{DISARM_AFTER_S} s limit")
     elif not neutral_only:
         fail(f"the ESC did not disarm in the {LINK_DOWN_S} s the link was down")
     held = [r for r in esc if restore <= t(r) < centre + 0.05 and moving(r)]
@@ -230,7 +238,8 @@ if tcol:
         fail("no thrust after centring, arming again and pushing the stick")
     print(f"link cut -> neutral: {measured.get('neutral_s', float('nan')):.3f} s "
           f"(mixer manual-demand limit {limit} s); link cut -> disarm: "
-          f"{measured.get('disarm_s', float('nan')):.3f} s; held stick after restore: "
+          f"{measured.get('disarm_s', float('nan')):.3f} s (limit {DISARM_AFTER_S} s); "
+          f"held stick after restore: "
           f"{len(held)} outputs off neutral", flush=True)
 
 # ---- clean up: the launchers are gone, the namespaces' holders go, and with them the veths.
