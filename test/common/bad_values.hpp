@@ -449,11 +449,27 @@ inline std::int64_t missing_kinds_hash<arm_state_t>() {
 template <>
 inline std::vector<BadValue<path_t>> bad_values() {
   return {
-      {"waypoint heading 4 rad", kOR, [](path_t& m) { m.waypoints[1].heading = 4.0; }},
-      {"waypoint heading 1e300", kOR, [](path_t& m) { m.waypoints[1].heading = kHuge; }},
-      {"waypoint heading -pi", kOR, [](path_t& m) { m.waypoints[1].heading = -kTestPi; }},
+      {"waypoint heading 4 rad", kOR,
+       [](path_t& m) {
+         m.waypoints[1].has_heading = true;
+         m.waypoints[1].heading = 4.0;
+       }},
+      {"waypoint heading 1e300", kOR,
+       [](path_t& m) {
+         m.waypoints[1].has_heading = true;
+         m.waypoints[1].heading = kHuge;
+       }},
+      {"waypoint heading -pi", kOR,
+       [](path_t& m) {
+         m.waypoints[1].has_heading = true;
+         m.waypoints[1].heading = -kTestPi;
+       }},
       {"waypoint position 2e6 m", kOR, [](path_t& m) { m.waypoints[0].position[1] = 2e6; }},
-      {"waypoint heading NaN", kNF, [](path_t& m) { m.waypoints[1].heading = NAN; }},
+      {"waypoint heading NaN", kNF,
+       [](path_t& m) {
+         m.waypoints[1].has_heading = true;
+         m.waypoints[1].heading = NAN;
+       }},
       {"waypoint position NaN", kNF, [](path_t& m) { m.waypoints[1].position[0] = NAN; }},
   };
 }
