@@ -11,6 +11,7 @@
 #include <stdexcept>
 
 #include "core/config.hpp"
+#include "core/lcm_url.hpp"
 #include "runtime/channels.hpp"
 
 namespace tiller::app {
@@ -111,6 +112,10 @@ Args parse(int argc, char** argv, const Spec& spec) {
   a.config = spec.default_config;
   const char* env_url = std::getenv("LCM_DEFAULT_URL");
   a.lcm_url = env_url ? env_url : channels::kDefaultLcmUrl;
+  if (const std::string why = lcm_url_problem(a.lcm_url); !why.empty()) {
+    std::cerr << spec.program << ": LCM_DEFAULT_URL: expected " << why << "\n";
+    std::exit(2);
+  }
   for (const auto& o : spec.options) {
     if (o.default_value.empty()) continue;
     a.values[o.name] = o.value_name == "FILE" ? resolve_path(o.default_value) : o.default_value;
@@ -146,6 +151,8 @@ Args parse(int argc, char** argv, const Spec& spec) {
     } else if (s == "--lcm-url") {
       if (!spec.takes_lcm_url) bad("--lcm-url is not taken: " + spec.program + " opens no LCM");
       a.lcm_url = take();
+      if (const std::string why = lcm_url_problem(a.lcm_url); !why.empty())
+        bad("--lcm-url: expected " + why);
     } else if (s.rfind("--", 0) == 0) {
       const std::string name = s.substr(2);
       bool known = false;
