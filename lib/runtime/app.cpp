@@ -1,5 +1,6 @@
 #include "runtime/app.hpp"
 
+#include <algorithm>
 #include <charconv>
 #include <cmath>
 #include <cstdio>
@@ -10,6 +11,7 @@
 #include <stdexcept>
 
 #include "core/config.hpp"
+#include "core/lcm_url.hpp"
 #include "runtime/channels.hpp"
 
 namespace tiller::app {
@@ -93,6 +95,10 @@ Args parse(int argc, char** argv, const Spec& spec) {
   a.config = spec.default_config;
   const char* env_url = std::getenv("LCM_DEFAULT_URL");
   a.lcm_url = env_url ? env_url : channels::kDefaultLcmUrl;
+  if (const std::string why = lcm_url_problem(a.lcm_url); !why.empty()) {
+    std::cerr << spec.program << ": LCM_DEFAULT_URL: expected " << why << "\n";
+    std::exit(2);
+  }
   for (const auto& o : spec.options) {
     if (o.default_value.empty()) continue;
     a.values[o.name] = o.value_name == "FILE" ? resolve_path(o.default_value) : o.default_value;
@@ -116,6 +122,7 @@ Args parse(int argc, char** argv, const Spec& spec) {
       if (i + 1 >= argc) bad("option " + s + " needs a value");
       return argv[++i];
     };
+    if (s.rfind("--", 0) == 0 && s != "--") a.given.insert(s.substr(2));
     if (s == "--help" || s == "-h") {
       usage(spec, std::cout);
       std::exit(0);
@@ -127,6 +134,8 @@ Args parse(int argc, char** argv, const Spec& spec) {
     } else if (s == "--lcm-url") {
       if (!spec.takes_lcm_url) bad("--lcm-url is not taken: " + spec.program + " opens no LCM");
       a.lcm_url = take();
+      if (const std::string why = lcm_url_problem(a.lcm_url); !why.empty())
+        bad("--lcm-url: expected " + why);
     } else if (s.rfind("--", 0) == 0) {
       const std::string name = s.substr(2);
       bool known = false;
@@ -142,6 +151,17 @@ Args parse(int argc, char** argv, const Spec& spec) {
   }
   a.config = resolve_path(a.config);
   return a;
+}
+
+std::vector<std::string> split_list(const std::string& s) {
+  std::vector<std::string> out;
+  std::size_t start = 0;
+  while (start <= s.size()) {
+    const std::size_t comma = std::min(s.find(',', start), s.size());
+    if (comma > start) out.push_back(s.substr(start, comma - start));
+    start = comma + 1;
+  }
+  return out;
 }
 
 int guarded_main(const std::string& program, const std::function<int()>& body) {
