@@ -1,0 +1,68 @@
+// Per-sample cost of the sensor drivers, with heap allocations counted (must be 0):
+//   BM_Ms5837Compensate: one D1/D2 pair -> temperature and pressure (first + second order);
+//   BM_PressureNodeSample: two node ticks on the fake bus (ADC read, next conversion start,
+//     compensation, depth, checks, pressure_t encode) = one published sample.
+#include <benchmark/benchmark.h>
+
+#include "alloc_count.hpp"
+#include "esc/fake/fake_i2c.hpp"
+#include "runtime/node.hpp"
+#include "sensors/fake/ms5837_model.hpp"
+#include "sensors/ms5837.hpp"
+#include "sensors/pressure_node.hpp"
+
+namespace {
+using namespace tiller;
+using namespace tiller::sensors;
+
+constexpr ms5837::Prom kProm = {0x2000, 34982, 36352, 20328, 22354, 26646, 26146};
+
+void report_allocs(benchmark::State& state, long before) {
+  const double allocs = static_cast<double>(test::allocations() - before);
+  state.counters["allocs_per_sample"] = allocs / static_cast<double>(state.iterations());
+  if (allocs > 0) state.SkipWithError("a sample allocated");
+}
+
+void BM_Ms5837Compensate(benchmark::State& state) {
+  std::uint32_t d1 = 4958179;
+  const long before = test::allocations();
+  for (auto _ : state) {
+    const auto r = ms5837::compensate(ms5837::Model::ba30, kProm, d1, 6815414);
+    benchmark::DoNotOptimize(r);
+    d1 ^= 1;
+  }
+  report_allocs(state, before);
+}
+BENCHMARK(BM_Ms5837Compensate);
+
+struct NullBus : Bus {
+  void publish(std::string_view, const std::uint8_t*, int) override {}
+};
+
+void BM_PressureNodeSample(benchmark::State& state) {
+  esc::fake::FakeI2cBus bus("/dev/i2c-1");
+  fake::Ms5837Model dev(kProm);
+  dev.d1 = 4958179;
+  dev.d2 = 6815414;
+  bus.attach(0x76, &dev);
+  PressureParams p;
+  PressureNode node(p, bus);
+  NullBus out;
+  node.attach(&out);
+  TimeUs t = 0;
+  for (int i = 0; i < 100; ++i, t += node.tick_period()) node.tick(t);  // set up, warm up
+  const long before = test::allocations();
+  for (auto _ : state) {
+    node.tick(t);
+    t += node.tick_period();
+    node.tick(t);
+    t += node.tick_period();
+  }
+  report_allocs(state, before);
+  if (node.counter_value("samples") < state.iterations()) state.SkipWithError("samples missing");
+}
+BENCHMARK(BM_PressureNodeSample);
+
+}  // namespace
+
+BENCHMARK_MAIN();
