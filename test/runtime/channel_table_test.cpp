@@ -31,6 +31,7 @@
 #include "mixer/mixer_node.hpp"
 #include "runtime/channels.hpp"
 #include "runtime/lockstep.hpp"
+#include "sensors/gnss_node.hpp"
 #include "sensors/pressure_node.hpp"
 #include "sim/sim_node.hpp"
 #include "teleop/teleop_node.hpp"
@@ -143,6 +144,8 @@ std::vector<Program> programs() {
   add("tiller-pressure",
       std::make_unique<sensors::PressureNode>(
           sensors::load_pressure_file(kRoot + "/config/sensors/pressure_bar30.yaml"), i2c));
+  add("tiller-gnss", std::make_unique<sensors::GnssNode>(
+                         sensors::load_gnss_file(kRoot + "/config/sensors/gnss_gpsd.yaml")));
   return out;
 }
 

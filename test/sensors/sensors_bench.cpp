@@ -1,13 +1,20 @@
 // Per-sample cost of the sensor drivers, with heap allocations counted (must be 0):
 //   BM_Ms5837Compensate: one D1/D2 pair -> temperature and pressure (first + second order);
 //   BM_PressureNodeSample: two node ticks on the fake bus (ADC read, next conversion start,
-//     compensation, depth, checks, pressure_t encode) = one published sample.
+//     compensation, depth, checks, pressure_t encode) = one published sample;
+//   BM_GnssReport: one gpsd TPV report (gps_data_t as libgps fills it) -> checked, encoded fix.
 #include <benchmark/benchmark.h>
+#include <gps.h>
+
+#include <cmath>
+#include <cstring>
+#include <memory>
 
 #include "alloc_count.hpp"
 #include "esc/fake/fake_i2c.hpp"
 #include "runtime/node.hpp"
 #include "sensors/fake/ms5837_model.hpp"
+#include "sensors/gnss_node.hpp"
 #include "sensors/ms5837.hpp"
 #include "sensors/pressure_node.hpp"
 
@@ -62,6 +69,37 @@ void BM_PressureNodeSample(benchmark::State& state) {
   if (node.counter_value("samples") < state.iterations()) state.SkipWithError("samples missing");
 }
 BENCHMARK(BM_PressureNodeSample);
+
+void BM_GnssReport(benchmark::State& state) {
+  auto d = std::make_unique<gps_data_t>();
+  std::memset(d.get(), 0, sizeof(gps_data_t));
+  d->set = MODE_SET | TIME_SET | LATLON_SET;
+  d->fix.mode = MODE_3D;
+  d->fix.status = STATUS_FIX;
+  d->fix.time.tv_sec = 1'796'126'400;
+  d->fix.latitude = 59.437;
+  d->fix.longitude = 10.6612;
+  d->fix.altHAE = 52.1;
+  d->fix.altMSL = 12.3;
+  d->fix.epx = d->fix.epy = 17.1;
+  d->fix.epv = 29.9;
+  d->fix.speed = 1.543;
+  d->fix.track = 45.0;
+  std::strcpy(d->dev.path, "/dev/pts/1");
+  GnssNode node(GnssParams{});
+  NullBus out;
+  node.attach(&out);
+  TimeUs t = 0;
+  for (int i = 0; i < 10; ++i) node.on_gps(*d, t += 1000);
+  const long before = test::allocations();
+  for (auto _ : state) {
+    t += 1000;
+    d->fix.latitude += 1e-9;
+    node.on_gps(*d, t);
+  }
+  report_allocs(state, before);
+}
+BENCHMARK(BM_GnssReport);
 
 }  // namespace
 
