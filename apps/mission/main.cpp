@@ -55,16 +55,15 @@ int main(int argc, char** argv) {
        "the operator's START; or sends one operator command (--command).",
        "",
        {{"mission", "FILE", "mission file (.yaml or .csv)", "config/missions/default.yaml"},
-        {"path-id", "N", "path id (default: the start time in us, so each run is a new path)", ""},
-        {"repeat-s", "S", "repeat period in seconds; 0 = publish once and exit", "1"},
-        {"start-wait-s", "S", "with --repeat-s 0: how long to wait for arming", "3"},
+        {"path-id", "N",
+         "path id, a whole number >= 0 (default: the start time in us, so each run is a new path)",
+         ""},
+        {"repeat-s", "S", "repeat period, s >= 0; 0 = publish once and exit", "1"},
+        {"start-wait-s", "S", "with --repeat-s 0: how long to wait for arming, s", "3"},
         {"no-arm", "", "do not send the arm request (START still waits for arming)", ""},
-        {"command", "NAME", "send pause, resume, abort or release and exit", ""}}});
-  if (!args.config.empty()) {
-    std::cerr << "tiller-mission: --config " << args.config
-              << ": tiller-mission has no config file; give the mission with --mission FILE\n";
-    return 2;
-  }
+        {"command", "NAME", "send pause, resume, abort or release and exit", ""}},
+       false});  // no config file: the mission is --mission FILE
+
   return app::guarded_main("tiller-mission", [&] {
     const std::string command = args.get("command");
     if (!command.empty()) {

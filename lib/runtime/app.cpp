@@ -1,5 +1,6 @@
 #include "runtime/app.hpp"
 
+#include <algorithm>
 #include <charconv>
 #include <cmath>
 #include <cstdio>
@@ -10,6 +11,7 @@
 #include <stdexcept>
 
 #include "core/config.hpp"
+#include "core/lcm_url.hpp"
 #include "runtime/channels.hpp"
 
 namespace tiller::app {
@@ -26,27 +28,44 @@ bool Args::flag(const std::string& name) const {
 }
 
 namespace {
-void usage(const Spec& spec, std::ostream& os) {
-  os << "Usage: " << spec.program << " [options]\n" << spec.summary << "\n\nOptions:\n";
-  os << "  --help               show this help\n";
-  if (spec.takes_config) {
-    os << "  --config FILE        YAML config"
-       << (spec.default_config.empty() ? "" : " (default: " + spec.default_config + ")") << "\n";
-  } else {
-    os << "  --config FILE        not taken: " << spec.program << " has no config file\n";
-  }
-  if (spec.takes_lcm_url) {
-    os << "  --lcm-url URL        LCM URL (default: " << channels::kDefaultLcmUrl << ")\n";
-  } else {
-    os << "  --lcm-url URL        not taken: " << spec.program << " opens no LCM\n";
-  }
-  for (const auto& o : spec.options) {
-    std::string lhs = "--" + o.name + (o.value_name.empty() ? "" : " " + o.value_name);
+std::string usage_line(const Spec& spec) {
+  return "Usage: " + spec.program + " [options]" +
+         (spec.arguments.empty() ? "" : " " + spec.arguments);
+}
+
+void help(const Spec& spec, std::ostream& os) {
+  os << usage_line(spec) << "\n" << spec.summary << "\n\nOptions:\n";
+  auto line = [&](std::string lhs, const std::string& text, const std::string& default_value) {
     if (lhs.size() < 20) lhs.resize(20, ' ');
-    os << "  " << lhs << " " << o.help;
-    if (!o.default_value.empty()) os << " (default: " << o.default_value << ")";
+    os << "  " << lhs << " " << text;
+    if (!default_value.empty()) os << " (default: " << default_value << ")";
     os << "\n";
+  };
+  line("--help", "show this help and exit", "");
+  if (spec.takes_config) line("--config FILE", spec.config_help, spec.default_config);
+  if (spec.takes_lcm_url)
+    line("--lcm-url URL", "LCM URL; ttl=0 is added unless the URL sets ttl",
+         std::string("$LCM_DEFAULT_URL, else ") + channels::kDefaultLcmUrl);
+  for (const auto& o : spec.options)
+    line("--" + o.name + (o.value_name.empty() ? "" : " " + o.value_name), o.help, o.default_value);
+}
+
+// The positional argument at `index` is one too many: its message, or "" when it is taken.
+std::string extra_positional(const Spec& spec, const std::vector<std::string>& positional) {
+  if (positional.empty()) return "";
+  std::size_t max = spec.max_positional;
+  if (auto c = spec.commands.find(positional[0]); c != spec.commands.end()) max = 1 + c->second;
+  if (positional.size() <= max) return "";
+  const std::string& extra = positional[max];
+  std::string takes;
+  if (max == 0 && !spec.commands.empty()) {
+    for (const auto& [name, n] : spec.commands) takes += (takes.empty() ? "" : ", ") + name;
+    takes = "commands: " + takes;
+  } else {
+    takes = spec.program + " takes " +
+            (spec.arguments.empty() ? "no positional arguments" : spec.arguments);
   }
+  return "unexpected argument '" + extra + "' (" + takes + ")";
 }
 }  // namespace
 
@@ -93,13 +112,17 @@ Args parse(int argc, char** argv, const Spec& spec) {
   a.config = spec.default_config;
   const char* env_url = std::getenv("LCM_DEFAULT_URL");
   a.lcm_url = env_url ? env_url : channels::kDefaultLcmUrl;
+  if (const std::string why = lcm_url_problem(a.lcm_url); !why.empty()) {
+    std::cerr << spec.program << ": LCM_DEFAULT_URL: expected " << why << "\n";
+    std::exit(2);
+  }
   for (const auto& o : spec.options) {
     if (o.default_value.empty()) continue;
     a.values[o.name] = o.value_name == "FILE" ? resolve_path(o.default_value) : o.default_value;
   }
   auto bad = [&](const std::string& msg) {
-    std::cerr << spec.program << ": " << msg << "\n";
-    usage(spec, std::cerr);
+    std::cerr << spec.program << ": " << msg << "\n"
+              << usage_line(spec) << "\n(" << spec.program << " --help lists the options)\n";
     std::exit(2);
   };
   for (int i = 1; i < argc; ++i) {
@@ -116,8 +139,9 @@ Args parse(int argc, char** argv, const Spec& spec) {
       if (i + 1 >= argc) bad("option " + s + " needs a value");
       return argv[++i];
     };
+    if (s.rfind("--", 0) == 0 && s != "--") a.given.insert(s.substr(2));
     if (s == "--help" || s == "-h") {
-      usage(spec, std::cout);
+      help(spec, std::cout);
       std::exit(0);
     } else if (s == "--config") {
       if (!spec.takes_config) {
@@ -127,6 +151,8 @@ Args parse(int argc, char** argv, const Spec& spec) {
     } else if (s == "--lcm-url") {
       if (!spec.takes_lcm_url) bad("--lcm-url is not taken: " + spec.program + " opens no LCM");
       a.lcm_url = take();
+      if (const std::string why = lcm_url_problem(a.lcm_url); !why.empty())
+        bad("--lcm-url: expected " + why);
     } else if (s.rfind("--", 0) == 0) {
       const std::string name = s.substr(2);
       bool known = false;
@@ -140,8 +166,20 @@ Args parse(int argc, char** argv, const Spec& spec) {
       a.positional.push_back(s);
     }
   }
+  if (const std::string extra = extra_positional(spec, a.positional); !extra.empty()) bad(extra);
   a.config = resolve_path(a.config);
   return a;
+}
+
+std::vector<std::string> split_list(const std::string& s) {
+  std::vector<std::string> out;
+  std::size_t start = 0;
+  while (start <= s.size()) {
+    const std::size_t comma = std::min(s.find(',', start), s.size());
+    if (comma > start) out.push_back(s.substr(start, comma - start));
+    start = comma + 1;
+  }
+  return out;
 }
 
 int guarded_main(const std::string& program, const std::function<int()>& body) {

@@ -58,9 +58,9 @@ LiveExecutor::LiveExecutor(const std::string& url) {
   const std::string u = with_default_ttl(url);
   lcm_ = std::make_unique<lcm::LCM>(u);
   if (!lcm_->good()) {
-    throw std::runtime_error(
-        "cannot open LCM at '" + u +
-        "' (no multicast route? try: ip route add 224.0.0.0/4 dev lo, see README)");
+    throw std::runtime_error("cannot open LCM at '" + u +
+                             "' (no multicast route? try: ip route add 224.0.0.0/4 dev lo, see "
+                             "docs/troubleshooting.md)");
   }
   bus_ = std::make_unique<LcmBus>(*lcm_);
 }
