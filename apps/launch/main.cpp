@@ -22,6 +22,7 @@
 #include "core/config.hpp"
 #include "launch/launch_file.hpp"
 #include "launch/posix_host.hpp"
+#include "launch/signing.hpp"
 #include "launch/supervisor.hpp"
 #include "runtime/app.hpp"
 #include "runtime/live.hpp"
@@ -223,7 +224,23 @@ int run(int argc, char** argv) {
   for (const auto& p : procs) width = std::max(width, p.name.size());
   const std::map<std::string, std::string> vars{
       {"LCM_URL", lf.lcm_url}, {"ROOT", lf.root}, {"LOG_FILE", log_file}, {"LAUNCH_NAME", lf.name}};
-  PosixHost host(lf.root, vars, {self_dir()}, {{"LCM_DEFAULT_URL", lf.lcm_url}}, stdout, width);
+  // Every child gets the LCM URL and the signing settings (key checked now, before any start).
+  std::map<std::string, std::string> child_env{{"LCM_DEFAULT_URL", lf.lcm_url}};
+  try {
+    if (explicit_option(argc, argv, "require-signed")) lf.require_signed = true;
+    const auto sign_env = signing_env(
+        lf, vars, explicit_option(argc, argv, "key-file") ? args.auth.key_file : "", std::cout);
+    child_env.insert(sign_env.begin(), sign_env.end());
+  } catch (const std::exception& e) {
+    std::cerr << "tiller-launch: " << e.what() << "\n";
+    return kExitUsage;
+  }
+  PosixHost host(lf.root, vars, {self_dir()}, child_env, stdout, width);
+  const std::string signing =
+      child_env.count("TILLER_KEY_FILE")
+          ? "signing: key " + child_env["TILLER_KEY_FILE"] +
+                (lf.require_signed ? ", unsigned input refused" : ", unsigned input accepted")
+          : "signing: off (no key_file)";
 
   // Refuse a plan whose programs do not exist, naming the line.
   bool bad = false;
@@ -245,7 +262,7 @@ int run(int argc, char** argv) {
   if (bad) return kExitUsage;
   if (args.flag("check")) {
     std::cout << lf.path << ": " << lf.name << " (" << lf.description << ")\n  root " << lf.root
-              << "\n  lcm  " << lf.lcm_url
+              << "\n  lcm  " << lf.lcm_url << "\n  " << signing
               << "\n  ends with: " << (lf.ends_with.empty() ? "(Ctrl-C)" : lf.ends_with) << "\n";
     for (const auto& p : procs) {
       std::cout << "  [" << p.group << "] " << p.name << ": " << host.resolve(host.argv_of(p)[0]);
@@ -281,8 +298,8 @@ int run(int argc, char** argv) {
       args.get("status-file").empty() ? default_status_file(lf.name) : args.get("status-file");
   auto note = [&](const std::string& s) { host.print("launch", s); };
   Supervisor sup(procs, lf.ends_with, lf.grace_s, host, note);
-  host.print("launch",
-             lf.name + ": " + std::to_string(procs.size()) + " processes, lcm " + lf.lcm_url);
+  host.print("launch", lf.name + ": " + std::to_string(procs.size()) + " processes, lcm " +
+                           lf.lcm_url + ", " + signing);
   for (const auto& h : held_back) host.print("launch", "not started: " + h);
   if (log)
     host.print("launch", "log: " + log_file + log_suffix(lf.logger) + " (replay manifest " +

@@ -62,9 +62,15 @@ int wait_for(const app::Args& a) {
   bool have = false;
   std::optional<TimeUs> met_since;
   std::int64_t messages = 0;
+  // Signed messages are checked with the key given (--key-file / TILLER_KEY_FILE) and their
+  // trailer stripped; refused ones are ignored, like an undecodable one.
+  auth::Verifier verifier(a.auth);
   std::function<void(const lcm::ReceiveBuffer*)> on_message = [&](const lcm::ReceiveBuffer* rb) {
     logtools::Decoded d;
-    if (!db.decode(static_cast<const std::uint8_t*>(rb->data), rb->data_size, d)) return;
+    const auto* bytes = static_cast<const std::uint8_t*>(rb->data);
+    const auto c = verifier.check(channel, bytes, static_cast<int>(rb->data_size), wall_time_us());
+    if (!auth::accepted(c.verdict)) return;
+    if (!db.decode(bytes, static_cast<std::size_t>(c.payload_size), d)) return;
     ++messages;
     const logtools::FieldValue* f = d.find(field);
     const bool met = f && f->to_string() == want;

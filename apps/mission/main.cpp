@@ -44,7 +44,7 @@ int main(int argc, char** argv) {
     if (id < 0) id = wall_time_us();
     std::cout << "tiller-mission: " << m.name << ": " << m.waypoints.size()
               << " waypoints, path_id " << id << "\n";
-    LiveExecutor ex(args.lcm_url);
+    LiveExecutor ex(args.lcm_url, args.auth);
     mission::MissionNode node(m, id, from_seconds(repeat > 0 ? repeat : 1.0), !args.flag("no-arm"));
     if (repeat <= 0) {
       const auto p = mission::to_path(m, id, wall_time_us());

@@ -6,6 +6,13 @@
 // default config from any directory; so are the defaults of options whose value is a FILE.
 // Standard options a program does not use (Spec::takes_config / takes_lcm_url false) are
 // refused with a message (exit 2) instead of being silently ignored.
+//
+// Message signing (docs/safety.md, "Who may command"): a program that opens LCM also takes
+//   --key-file FILE      the vehicle's key (default: $TILLER_KEY_FILE), checked at start-up: a
+//                        missing, malformed or group/world-readable file is exit 2 naming it
+//   --require-signed     refuse unsigned input (default: $TILLER_REQUIRE_SIGNED = 1/true/0/false)
+//   --auth-window-s S    replay window (default: $TILLER_AUTH_WINDOW_S, else 1)
+// tiller-launch sets the three variables from the launch file for every process.
 #pragma once
 
 #include <cstdint>
@@ -13,6 +20,8 @@
 #include <map>
 #include <string>
 #include <vector>
+
+#include "auth/verifier.hpp"
 
 namespace tiller::app {
 
@@ -37,6 +46,7 @@ struct Args {
   std::string lcm_url;                        // LCM URL (TTL 0 unless given)
   std::map<std::string, std::string> values;  // program-specific options (flags: "1")
   std::vector<std::string> positional;
+  auth::Policy auth;  // signing: key loaded and checked, require_signed, window
   const std::string& get(const std::string& name) const;
   bool flag(const std::string& name) const;
 };
