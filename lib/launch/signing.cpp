@@ -47,4 +47,11 @@ std::map<std::string, std::string> signing_env(const LaunchFile& lf,
   return env;
 }
 
+std::string signing_summary(const LaunchFile& lf, const std::map<std::string, std::string>& env) {
+  const auto k = env.find("TILLER_KEY_FILE");
+  if (k == env.end()) return "signing: off (no key_file)";
+  return "signing: key " + k->second +
+         (lf.require_signed ? ", unsigned input refused" : ", unsigned input accepted");
+}
+
 }  // namespace tiller::launch

@@ -21,4 +21,8 @@ std::map<std::string, std::string> signing_env(const LaunchFile& lf,
                                                const std::string& key_file_override,
                                                std::ostream& out);
 
+// One line for the launcher's output: "signing: key FILE, unsigned input refused" (or
+// "..., accepted"), or "signing: off (no key_file)", from signing_env's result.
+std::string signing_summary(const LaunchFile& lf, const std::map<std::string, std::string>& env);
+
 }  // namespace tiller::launch

@@ -1,5 +1,6 @@
 #include "runtime/app.hpp"
 
+#include <algorithm>
 #include <charconv>
 #include <cmath>
 #include <cstdio>
@@ -171,6 +172,7 @@ Args parse(int argc, char** argv, const Spec& spec) {
       if (i + 1 >= argc) bad("option " + s + " needs a value");
       return argv[++i];
     };
+    if (s.rfind("--", 0) == 0 && s != "--") a.given.insert(s.substr(2));
     if (s == "--help" || s == "-h") {
       usage(spec, std::cout);
       std::exit(0);
@@ -203,6 +205,17 @@ Args parse(int argc, char** argv, const Spec& spec) {
   a.config = resolve_path(a.config);
   if (spec.takes_lcm_url) load_auth(a, spec, key_file, require, window);
   return a;
+}
+
+std::vector<std::string> split_list(const std::string& s) {
+  std::vector<std::string> out;
+  std::size_t start = 0;
+  while (start <= s.size()) {
+    const std::size_t comma = std::min(s.find(',', start), s.size());
+    if (comma > start) out.push_back(s.substr(start, comma - start));
+    start = comma + 1;
+  }
+  return out;
 }
 
 int guarded_main(const std::string& program, const std::function<int()>& body) {

@@ -18,6 +18,7 @@
 #include <cstdint>
 #include <functional>
 #include <map>
+#include <set>
 #include <string>
 #include <vector>
 
@@ -46,9 +47,12 @@ struct Args {
   std::string lcm_url;                        // LCM URL (TTL 0 unless given)
   std::map<std::string, std::string> values;  // program-specific options (flags: "1")
   std::vector<std::string> positional;
+  std::set<std::string> given;  // options named on the command line ("config", "lcm-url", ...)
   auth::Policy auth;  // signing: key loaded and checked, require_signed, window
   const std::string& get(const std::string& name) const;
   bool flag(const std::string& name) const;
+  // True when --NAME was on the command line (not just its default).
+  bool explicitly(const std::string& name) const { return given.count(name) > 0; }
 };
 
 // Parses argv; prints usage and exits 0 on --help, exits 2 with a message on bad usage.
@@ -66,6 +70,9 @@ double number_option(const Args& a, const std::string& name, double lo, double h
                      const std::string& expected);
 std::int64_t integer_option(const Args& a, const std::string& name, std::int64_t lo,
                             std::int64_t hi, const std::string& expected);
+
+// "a,b,,c" -> {"a", "b", "c"} (empty items dropped): list-valued options such as --group A,B.
+std::vector<std::string> split_list(const std::string& s);
 
 // Runs body(); a config or start-up error is printed as "<program>: <message>" and gives 2.
 int guarded_main(const std::string& program, const std::function<int()>& body);

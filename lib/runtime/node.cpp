@@ -6,16 +6,21 @@
 #include <stdexcept>
 
 #include "runtime/channels.hpp"
+#include "runtime/heartbeat_name.hpp"
 
 namespace tiller {
 
+std::string heartbeat_channel_of(const std::string& node_name) {
+  std::string s = channels::kHeartbeatPrefix;
+  for (char c : node_name)
+    s += (c == '-') ? '_' : static_cast<char>(std::toupper(static_cast<unsigned char>(c)));
+  return s;
+}
+
 Node::Node(std::string name, TimeUs tick_period_us)
-    : name_(std::move(name)), tick_period_(tick_period_us > 0 ? tick_period_us : kUsPerSecond) {
-  heartbeat_channel_ = channels::kHeartbeatPrefix;
-  for (char c : name_) {
-    heartbeat_channel_ +=
-        (c == '-') ? '_' : static_cast<char>(std::toupper(static_cast<unsigned char>(c)));
-  }
+    : name_(std::move(name)),
+      tick_period_(tick_period_us > 0 ? tick_period_us : kUsPerSecond),
+      heartbeat_channel_(heartbeat_channel_of(name_)) {
   heartbeat_.process = name_;
   heartbeat_.state = heartbeat_t::STATE_OK;
   heartbeat_.status = "starting";

@@ -139,5 +139,18 @@ TEST(App, NumberAndIntegerOptionsAreCheckedWhole) {
         << bad;
 }
 
+// The helpers tiller-launch and tiller-replay each had a copy of.
+TEST(App, SplitListAndExplicitlyGivenOptions) {
+  EXPECT_EQ(split_list("a,b,,c,"), (std::vector<std::string>{"a", "b", "c"}));
+  EXPECT_TRUE(split_list("").empty());
+  const Spec spec{"tiller-x", "test", "", {{"n", "N", "a number", "1"}}, true, true};
+  const Args a = run(spec, {"--n=2", "--lcm-url", "memq://"});
+  EXPECT_TRUE(a.explicitly("n"));
+  EXPECT_TRUE(a.explicitly("lcm-url"));
+  EXPECT_FALSE(a.explicitly("config"));
+  EXPECT_FALSE(run(spec, {}).explicitly("n"));  // its default is not "given"
+  EXPECT_EQ(run(spec, {}).get("n"), "1");
+}
+
 }  // namespace
 }  // namespace tiller::app

@@ -1,4 +1,4 @@
-#include "processes.hpp"
+#include "replaytool/processes.hpp"
 
 #include "control/control_config.hpp"
 #include "control/station_keep_node.hpp"

@@ -1,0 +1,65 @@
+#include "logtools/log_commands.hpp"
+
+#include <fstream>
+#include <set>
+#include <stdexcept>
+
+#include "logtools/csv.hpp"
+#include "logtools/lcm_schema.hpp"
+
+namespace tiller::logtools {
+
+int print_fields(const std::vector<Event>& events, const std::string& channel, std::ostream& out,
+                 std::ostream& err) {
+  if (events.empty()) return 1;
+  Decoded d;
+  if (!tiller_types().decode(events[0].data.data(), events[0].data.size(), d)) {
+    err << "tiller-log: " << channel << " does not carry a Tiller type\n";
+    return 1;
+  }
+  out << channel << ": " << d.type->name << "\n";
+  for (const auto& f : d.fields) out << "  " << f.path << " = " << f.to_string() << "\n";
+  return 0;
+}
+
+int export_csv(const std::vector<Event>& events, const std::string& channel,
+               const std::vector<std::string>& fields, TimeUs t0, const std::string& output,
+               std::ostream& out, std::ostream& err) {
+  // Every --fields name must choose something; else list what there is.
+  if (!fields.empty()) {
+    std::vector<std::string> paths;
+    std::set<std::string> seen;
+    Decoded d;
+    std::string type;
+    for (const auto& e : events) {
+      if (!tiller_types().decode(e.data.data(), e.data.size(), d)) continue;
+      type = d.type->name;
+      for (const auto& f : d.fields)
+        if (seen.insert(f.path).second) paths.push_back(f.path);
+    }
+    for (const auto& w : fields) {
+      bool any = false;
+      for (const auto& path : paths) any = any || field_selected(path, {w});
+      if (any) continue;
+      std::string list;
+      for (const auto& path : paths) list += (list.empty() ? "" : ", ") + path;
+      err << "tiller-log: --fields: no field \"" << w << "\" in " << channel
+          << (type.empty() ? "" : " (" + type + ")") << "; its fields: " << list << "\n";
+      return 2;
+    }
+  }
+  std::size_t skipped = 0;
+  std::size_t rows = 0;
+  if (output.empty()) {
+    rows = write_csv(out, events, channel, fields, t0, &skipped);
+  } else {
+    std::ofstream f(output);
+    if (!f) throw std::runtime_error("cannot write " + output);
+    rows = write_csv(f, events, channel, fields, t0, &skipped);
+    err << "tiller-log: " << rows << " rows to " << output << "\n";
+  }
+  if (skipped) err << "tiller-log: " << skipped << " messages did not decode and were skipped\n";
+  return rows > 0 ? 0 : 1;
+}
+
+}  // namespace tiller::logtools
