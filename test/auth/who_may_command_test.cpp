@@ -158,10 +158,19 @@ struct Rig {
     }
     return pred();
   }
-  // Waits for a heartbeat at least `after_us` after now (so it counts what was sent before).
+  // Waits for a heartbeat stamped after now (so it reflects what came before).
   bool fresh_heartbeat(const std::function<void()>& each = {}) {
     const std::int64_t t = realtime_us();
     return pump([&] { return ear.heartbeats > 0 && ear.hb.utime > t; }, 4.0, each);
+  }
+  // The ESC handles one message per loop turn, between ticks: a heartbeat may come before a
+  // burst is worked through. Waits (a deadline, not a timing claim) for `name` to reach `n`,
+  // then for one more heartbeat, so a count beyond n would show too.
+  std::int64_t counter_after(const std::string& name, std::int64_t n,
+                             const std::function<void()>& each = {}) {
+    pump([&] { return ear.counter(name) >= n; }, 8.0, each);
+    fresh_heartbeat(each);
+    return ear.counter(name);
   }
 };
 
@@ -199,19 +208,28 @@ TEST(WhoMayCommand, ForeignThrusterCommandsNeverReachTheBus) {
   teleop.publish(channels::kArmRequest, arm_request(true));
   ASSERT_TRUE(r.pump([&] { return r.ear.have_arm && r.ear.arm.armed; }, 5.0, neutral))
       << "the legitimate arm request was not accepted: " << slurp(r.dir.file("esc1.out"));
-  // 50 foreign commands of 0.8 among the mixer's neutral ones, armed all along.
+  // Foreign commands of 0.8 among the mixer's neutral ones, armed all along, until the ESC has
+  // refused 50 of each (UDP may drop some on a loaded machine: every one that arrived counts).
   int sent = 0;
-  r.pump([&] { return sent >= 50; }, 10.0,
-         [&] {
-           foreign.publish(channels::kThrusterCommand, command(0.8, true));
-           insider.publish(channels::kThrusterCommand, command(0.8, true));
-           neutral();
-           ++sent;
-         });
+  r.pump(
+      [&] {
+        return r.ear.counter("rejected.auth.unsigned") >= 50 &&
+               r.ear.counter("rejected.auth.sender") >= 50;
+      },
+      30.0,
+      [&] {
+        foreign.publish(channels::kThrusterCommand, command(0.8, true));
+        insider.publish(channels::kThrusterCommand, command(0.8, true));
+        neutral();
+        ++sent;
+        e2e::sleep_ms(5);  // a mixer's rate, not a burst
+      });
   ASSERT_TRUE(r.fresh_heartbeat(neutral));
+  EXPECT_GE(r.ear.counter("rejected.auth.unsigned"), 50);
+  EXPECT_LE(r.ear.counter("rejected.auth.unsigned"), sent);
+  EXPECT_GE(r.ear.counter("rejected.auth.sender"), 50);
+  EXPECT_LE(r.ear.counter("rejected.auth.sender"), sent);
   EXPECT_TRUE(r.ear.arm.armed);
-  EXPECT_EQ(r.ear.counter("rejected.auth.unsigned"), 50);
-  EXPECT_EQ(r.ear.counter("rejected.auth.sender"), 50);
   ASSERT_FALSE(r.ear.outputs.empty());
   for (const auto& o : r.ear.outputs) ASSERT_TRUE(all_neutral(o)) << "an output left neutral";
   esc->stop();
@@ -251,8 +269,8 @@ TEST(WhoMayCommand, AProcessWithAWrongKeyIsRefused) {
     attack();
     r.l.handleTimeout(10);
   }
-  ASSERT_TRUE(r.fresh_heartbeat(attack));
-  EXPECT_GE(r.ear.counter("rejected.auth.wrong_key"), 2 * 30 + 1);  // + the mission's request
+  EXPECT_GE(r.counter_after("rejected.auth.wrong_key", 2 * 30 + 1),
+            2 * 30 + 1);  // + the mission's request (the heartbeat's attacks add more)
   EXPECT_FALSE(r.ear.have_arm && r.ear.arm.armed);
   for (const auto& o : r.ear.outputs) ASSERT_TRUE(all_neutral(o));
   esc->stop();
@@ -279,19 +297,17 @@ TEST(WhoMayCommand, ReplayedArmRequestIsRefused) {
   ASSERT_TRUE(r.pump([&] { return !r.ear.arm.armed; }, 5.0, neutral));
   // The capture, replayed to the running ESC: an old stamp of a known stream.
   for (int i = 0; i < 5; ++i) r.l.publish(channels::kArmRequest, captured.data(), captured.size());
-  ASSERT_TRUE(r.fresh_heartbeat(neutral));
-  EXPECT_EQ(r.ear.counter("rejected.auth.replay"), 5);
+  EXPECT_EQ(r.counter_after("rejected.auth.replay", 5, neutral), 5);
   EXPECT_FALSE(r.ear.arm.armed);
   // A restarted ESC knows no stream: the capture is refused as older than the window (1 s).
   esc->stop();
   r.ear.heartbeats = 0;
   esc = r.esc(key, "esc3b.out");
   ASSERT_TRUE(r.pump([&] { return r.ear.heartbeats > 0; }, 10.0, neutral));
-  ASSERT_GT(realtime_us() - auth::read_trailer(captured.data() + captured.size() - 48).time_us,
-            1'000'000);
+  const TimeUs stamp = auth::read_trailer(captured.data() + captured.size() - 48).time_us;
+  r.pump([&] { return realtime_us() - stamp > 1'200'000; }, 5.0, neutral);  // past the window
   for (int i = 0; i < 5; ++i) r.l.publish(channels::kArmRequest, captured.data(), captured.size());
-  ASSERT_TRUE(r.fresh_heartbeat(neutral));
-  EXPECT_EQ(r.ear.counter("rejected.auth.window"), 5);
+  EXPECT_EQ(r.counter_after("rejected.auth.window", 5, neutral), 5);
   EXPECT_FALSE(r.ear.arm.armed);
   for (const auto& o : r.ear.outputs) EXPECT_TRUE(all_neutral(o));
   esc->stop();
@@ -321,14 +337,16 @@ TEST(WhoMayCommand, ReplayedThrusterCommandIsRefused) {
   ASSERT_TRUE(r.pump([&] { return all_neutral(r.ear.outputs.back()); }, 5.0, send));
   const std::size_t from = r.ear.outputs.size();
   int replays = 0;
-  r.pump([&] { return replays >= 40; }, 10.0,
+  r.pump([&] { return r.ear.counter("rejected.auth.replay") >= 40; }, 30.0,
          [&] {
            send();
            r.l.publish(channels::kThrusterCommand, captured.data(), captured.size());
            ++replays;
+           e2e::sleep_ms(5);
          });
   ASSERT_TRUE(r.fresh_heartbeat(send));
-  EXPECT_EQ(r.ear.counter("rejected.auth.replay"), 40);
+  EXPECT_GE(r.ear.counter("rejected.auth.replay"), 40);
+  EXPECT_LE(r.ear.counter("rejected.auth.replay"), replays);
   EXPECT_TRUE(r.ear.arm.armed);
   ASSERT_GT(r.ear.outputs.size(), from);
   for (std::size_t i = from; i < r.ear.outputs.size(); ++i)

@@ -21,13 +21,13 @@ namespace {
 
 namespace fs = std::filesystem;
 
-struct Run {
+struct LaunchRun {
   fs::path dir = fs::temp_directory_path() / ("tiller-launch-sign-" + std::to_string(::getpid()));
-  Run() {
+  LaunchRun() {
     fs::remove_all(dir);
     fs::create_directories(dir);
   }
-  ~Run() { fs::remove_all(dir); }
+  ~LaunchRun() { fs::remove_all(dir); }
   // Writes the launch file (key settings + one process that prints what it was given), runs it.
   int launch(const std::string& key_settings, std::string& out) const {
     std::ofstream(dir / "run.yaml")
@@ -49,7 +49,7 @@ struct Run {
 };
 
 TEST(LaunchSigning, SettingsReachEveryProcess) {
-  Run r;
+  LaunchRun r;
   auth::write_key_file((r.dir / "v.key").string(), auth::generate_key(), false);
   std::string out;
   ASSERT_EQ(r.launch("key_file: v.key\nrequire_signed: true\nauth_window_s: 0.5\n", out), 0) << out;
@@ -63,7 +63,7 @@ TEST(LaunchSigning, SettingsReachEveryProcess) {
 }
 
 TEST(LaunchSigning, BadKeyFilesStopTheLaunchNamingTheFile) {
-  Run r;
+  LaunchRun r;
   std::string out;
   const std::string missing = (r.dir / "missing.key").string();
   EXPECT_EQ(r.launch("key_file: missing.key\nrequire_signed: true\n", out), 2) << out;
@@ -88,7 +88,7 @@ TEST(LaunchSigning, BadKeyFilesStopTheLaunchNamingTheFile) {
 }
 
 TEST(LaunchSigning, CreateKeyMakesAPrivateKeyOnce) {
-  Run r;
+  LaunchRun r;
   std::string out;
   ASSERT_EQ(r.launch("key_file: keys/sim.key\ncreate_key: true\nrequire_signed: true\n", out), 0)
       << out;

@@ -35,7 +35,7 @@ all_running() {
 
 # No key (the default /etc/tiller/vehicle.key is not there): refused before anything starts.
 out=$(TILLER_KEY_FILE="$tmp/none.key" "$bin/tiller-launch" config/launch/real_seed000_rov.yaml --no-log 2>&1); rc=$?
-[ $rc -eq 2 ] && echo "$out" | grep -q "key_file: key file '$tmp/none.key': No such file" ||
+[ $rc -eq 2 ] && echo "$out" | grep -q "key file '$tmp/none.key': No such file" ||
   { echo "FAIL: a missing vehicle key gave exit $rc: $out"; fail=1; }
 
 for vehicle in seed000 seed001; do
