@@ -2,22 +2,10 @@
 // bus (BlueESC/tgy I2C, PCA9685 PWM, sim or dry-run); the one authority on arming.
 // SIGINT/SIGTERM: neutral to every ESC, then exit.
 #include <cstdio>
-#include <filesystem>
 
 #include "esc/esc_node.hpp"
 #include "runtime/app.hpp"
 #include "runtime/live.hpp"
-
-namespace {
-// A relative config path that does not exist from here is looked up in the source tree.
-std::string resolve(const std::string& p) {
-  if (p.empty() || std::filesystem::exists(p) || std::filesystem::path(p).is_absolute()) return p;
-  for (const char* base : {TILLER_SOURCE_DIR "/config/", TILLER_SOURCE_DIR "/"}) {
-    if (std::filesystem::exists(base + p)) return base + p;
-  }
-  return p;
-}
-}  // namespace
 
 int main(int argc, char** argv) {
   using namespace tiller;
@@ -25,10 +13,11 @@ int main(int argc, char** argv) {
     const app::Args args = app::parse(
         argc, argv,
         {"tiller-esc",
-         "ESC bus driver: thruster commands -> ESCs (I2C tgy, PCA9685 PWM, sim, dry-run)",
+         "ESC bus driver: thruster commands -> ESCs (I2C tgy, PCA9685 PWM, sim, dry-run); the one\n"
+         "authority on arming. SIGINT/SIGTERM: neutral to every ESC, then exit.",
          "config/esc/seed000_sim.yaml",
          {}});
-    EscNode node(resolve(args.config));
+    EscNode node(args.config);
     const auto& b = node.backend();
     std::fprintf(stderr, "tiller-esc: %s on %s, %zu ESCs, %.0f Hz, command timeout %lld ms\n",
                  b.label().c_str(), b.bus().c_str(), b.size(), node.params().rate_hz,

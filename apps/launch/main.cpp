@@ -28,11 +28,10 @@ std::string status_file_of(const app::Args& args, const std::string& launch_name
 }
 
 int run(int argc, char** argv) {
-  const app::Spec spec{
+  app::Spec spec{
       "tiller-launch",
-      "Starts the processes of a launch file, logs the run, stops them cleanly.\n"
-      "Usage: tiller-launch [options] LAUNCH_FILE (or --config LAUNCH_FILE) | tiller-launch status "
-      "LAUNCH_FILE\n"
+      "Starts the processes of a launch file (config/launch/*.yaml), logs the run, stops them\n"
+      "cleanly. 'status LAUNCH_FILE' prints the status table of that launch's running instance.\n"
       "Exit status: 0 clean, 1 the run failed, 2 bad launch file or usage, 3 a critical process "
       "failed.",
       "",
@@ -43,9 +42,16 @@ int run(int argc, char** argv) {
        {"log-dir", "DIR", "directory for the log (default: the launch file's logger.dir)", ""},
        {"log-file", "FILE", "exact log file name (default: <log-dir>/<date-time>.lcmlog)", ""},
        {"status-every", "S",
-        "print the status table every S seconds (0: only at the end and on SIGUSR1)", "0"},
+        "print the status table every S seconds, 0..86400 (0: only at the end and on SIGUSR1)",
+        "0"},
        {"status-file", "FILE",
-        "status table kept up to date here (default: $XDG_RUNTIME_DIR or /tmp)", ""}}};
+        "status table kept up to date here (default: $XDG_RUNTIME_DIR, else /tmp, "
+        "/tiller-launch-<name>.status)",
+        ""}}};
+  spec.config_help = "the launch file (instead of the LAUNCH_FILE argument)";
+  spec.arguments = "LAUNCH_FILE | status LAUNCH_FILE";
+  spec.max_positional = 1;
+  spec.commands = {{"status", 1}};
   const app::Args args = app::parse(argc, argv, spec);
   // Checked before anything starts.
   const double every =

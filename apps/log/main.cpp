@@ -42,24 +42,30 @@ logtools::WaitSpec wait_spec(const app::Args& a) {
 
 int main(int argc, char** argv) {
   return app::guarded_main("tiller-log", [&] {
-    const app::Spec spec{
+    app::Spec spec{
         "tiller-log",
-        "Summarises an LCM log or exports channels to CSV.\n"
-        "Usage: tiller-log summary LOG | csv LOG CHANNEL [--fields F,..] [--output FILE] | fields "
-        "LOG CHANNEL\n"
-        "       tiller-log wait CHANNEL FIELD VALUE [--hold-s S] [--timeout-s S] [--mission FILE]",
+        "Looks inside an LCM log: summary (channels, rates, gaps, each process's health and what\n"
+        "needs attention), csv (one row per message, --fields, --output), fields (the field paths\n"
+        "of a channel's first message); wait (live, on --lcm-url): exit 0 once FIELD of CHANNEL "
+        "has\n"
+        "equalled VALUE for --hold-s, 1 after --timeout-s.",
         "",
         {{"fields", "F[,F..]", "fields to export (path or prefix: position, command, waypoints[0])",
           ""},
          {"output", "FILE", "write the CSV here instead of standard output", ""},
          {"hold-s", "S",
-          "wait: the value must hold this long (default: the mission's station_keep_s, else 0)",
+          "wait: the value must hold this long, s, 0..86400 (default: the mission's "
+          "station_keep_s, else 0)",
           ""},
          {"timeout-s", "S",
-          "wait: give up (exit 1) after this long (default: the mission's time_limit_s, else 600)",
+          "wait: give up (exit 1) after this long, s, 0..86400 (default: the mission's "
+          "time_limit_s, else 600)",
           ""},
          {"mission", "FILE", "wait: take hold and timeout from this mission file", ""}},
         false};  // no config file: --config refused (--lcm-url is for wait)
+    spec.arguments =
+        "summary LOG | csv LOG CHANNEL | fields LOG CHANNEL | wait CHANNEL FIELD VALUE";
+    spec.commands = {{"summary", 1}, {"csv", 2}, {"fields", 2}, {"wait", 3}};
     const app::Args a = app::parse(argc, argv, spec);
     const auto& p = a.positional;
     if (p.size() == 4 && p[0] == "wait")

@@ -23,14 +23,13 @@ int main(int argc, char** argv) {
        "Publishes a mission's path, then the waypointing mode and an arm request.",
        "",
        {{"mission", "FILE", "mission file (.yaml or .csv)", "config/missions/default.yaml"},
-        {"path-id", "N", "path id (default: the start time in us, so each run is a new path)", ""},
-        {"repeat-s", "S", "repeat period in seconds; 0 = publish once and exit", "1"},
-        {"no-arm", "", "do not send the arm request", ""}}});
-  if (!args.config.empty()) {
-    std::cerr << "tiller-mission: --config " << args.config
-              << ": tiller-mission has no config file; give the mission with --mission FILE\n";
-    return 2;
-  }
+        {"path-id", "N",
+         "path id, a whole number >= 0 (default: the start time in us, so each run is a new path)",
+         ""},
+        {"repeat-s", "S", "repeat period, s >= 0; 0 = publish once and exit", "1"},
+        {"no-arm", "", "do not send the arm request", ""}},
+       false});  // no config file: the mission is --mission FILE
+
   return app::guarded_main("tiller-mission", [&] {
     // Numbers first, whole strings only; a bad value names the flag and what was expected.
     const double repeat =

@@ -17,16 +17,21 @@ using namespace tiller;
 
 int main(int argc, char** argv) {
   return app::guarded_main("tiller-plot", [&] {
-    const app::Spec spec{
+    app::Spec spec{
         "tiller-plot",
-        "Draws a run from its LCM log into a PNG with gnuplot.\nUsage: tiller-plot LOG [--output "
-        "FILE.png]",
+        "Draws a run from its LCM log into a PNG with gnuplot: path and trajectory from above "
+        "with\n"
+        "each waypoint reached, speed, heading (unwrapped), cross-track error and distance to "
+        "goal,\n"
+        "thruster commands, saturation.",
         "",
         {{"output", "FILE", "PNG to write (default: the log's name with .png)", ""},
          {"data-dir", "DIR",
           "keep the CSV files and the gnuplot script here (default: a temporary directory)", ""}},
         false,   // no config file: --config refused
         false};  // reads a log, opens no LCM: --lcm-url refused
+    spec.arguments = "LOG";
+    spec.max_positional = 1;
     const app::Args a = app::parse(argc, argv, spec);
     if (a.positional.size() != 1) {
       std::cerr << "tiller-plot: give one log file (see --help)\n";

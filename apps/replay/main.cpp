@@ -39,21 +39,22 @@ std::optional<double> optional_number(const app::Args& a, const std::string& nam
 
 int main(int argc, char** argv) {
   return app::guarded_main("tiller-replay", [&]() -> int {
-    const app::Spec spec{
+    app::Spec spec{
         "tiller-replay",
-        "Replays a log through today's code and compares the outputs with the recorded ones.\n"
-        "Usage: tiller-replay LOG [--process NAME|all] [--config FILE] [--configs MANIFEST]\n"
-        "--config applies to the one --process. Exit 0: all match within tolerance; 1: a "
-        "difference; 2: usage or manifest error.",
+        "Replays a log through today's code and compares the outputs with the recorded ones\n"
+        "(offline: it opens no LCM). Exit 0: all match within tolerance; 1: a difference; 2: "
+        "usage or\nmanifest error.",
         "",
         {{"process", "NAME", "process to replay, or all (every replayable process that ran)",
           "all"},
          {"configs", "FILE",
           "manifest of each process's config (default: LOG.replay.yaml if present)", ""},
          {"tolerance", "X",
-          "absolute tolerance on number fields, >= 0 (default: manifest's, else 0)", ""},
+          "absolute tolerance on number fields, in their units, >= 0 (default: manifest's, else "
+          "0)",
+          ""},
          {"time-tolerance-ms", "MS",
-          "tolerance on message times, >= 0 (default: manifest's, else 0)", ""},
+          "tolerance on message times, ms >= 0 (default: manifest's, else 0; live logs 20)", ""},
          {"relative-tolerance", "F",
           "plus this fraction of |old value|, 0..1 (default: manifest's, else 0)", ""},
          {"live-match", "F",
@@ -62,9 +63,13 @@ int main(int argc, char** argv) {
           ""},
          {"live", "", "a live log: align ticks to the recording (default: the manifest's live:)",
           ""},
-         {"show", "N", "list the first N differences of each channel (default 1)", "1"},
+         {"show", "N", "list the first N differences of each channel, a whole number >= 1", "1"},
          {"heartbeats", "", "compare heartbeats too (lockstep logs)", ""},
          {"list", "", "list the replayable processes and their default configs", ""}}};
+    spec.takes_lcm_url = false;
+    spec.config_help = "config of the one --process (instead of the manifest's or its default)";
+    spec.arguments = "LOG";
+    spec.max_positional = 1;
     const app::Args a = app::parse(argc, argv, spec);
     if (a.flag("list")) {
       for (const auto& e : replayable_processes())

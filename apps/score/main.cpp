@@ -21,7 +21,7 @@ int main(int argc, char** argv) {
                  {"tiller-score",
                   "Scores a logged run (cross-track, time, final error, VRX scores).",
                   "",
-                  {{"log", "FILE", "LCM log to score", ""},
+                  {{"log", "FILE", "LCM log to score (required)", ""},
                    {"mission", "FILE", "mission file (default: the path in the log)", ""}},
                   false,    // no config file: --config refused
                   false});  // reads a log, opens no LCM: --lcm-url refused

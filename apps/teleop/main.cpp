@@ -11,7 +11,8 @@ int main(int argc, char** argv) {
       "tiller-teleop",
       "joystick -> manual demand, manual velocity, mode and arm requests",
       "config/teleop/extreme3dpro_seed000.yaml",
-      {{"device", "PATH", "joystick device, FIFO or file (overrides the config)", ""},
+      {{"device", "PATH",
+        "joystick device, FIFO or file (default: the config's device, e.g. /dev/input/js0)", ""},
        {"replay", "", "take TILLER_JOYSTICK from LCM instead of a device", ""}}};
   const app::Args args = app::parse(argc, argv, spec);
   return app::guarded_main(spec.program, [&] {

@@ -101,8 +101,12 @@ void StationKeepNode::on_allocation(const allocation_status_t& m, TimeUs now) {
 }
 
 void StationKeepNode::on_velocity_wrench(const wrench_t& m, TimeUs now) {
-  if (!all_finite(m.tau)) {
-    reject(*bad_velocity_wrench_);  // dropped: the last good one (or none) stays in force
+  // Its contract (core/message_checks.hpp): a known source, each component within +-1e5 (it is
+  // re-published as our own wrench while standing by). Dropped: the last good one (or none)
+  // stays in force. Non-finite under .nan, the rest under .range.
+  if (checks::check(m) != nullptr) {
+    reject(all_finite(m.tau) ? first_use(range_velocity_wrench_, "rejected.wrench_velocity.range")
+                             : *bad_velocity_wrench_);
     return;
   }
   velocity_wrench_ = m;

@@ -68,7 +68,8 @@ class StationKeepNode : public Node {
   bool was_active_ = false;
   std::int64_t *nan_odometry_, *bad_target_, *bad_velocity_wrench_;
   std::int64_t *range_odometry_ = nullptr, *bad_arbitration_ = nullptr,  // made on first use
-                                               *bad_allocation_ = nullptr;
+                                               *bad_allocation_ = nullptr,
+               *range_velocity_wrench_ = nullptr;
 };
 
 }  // namespace tiller::control

@@ -127,8 +127,12 @@ void VelocityPidNode::on_allocation(const allocation_status_t& m, TimeUs now) {
 }
 
 void VelocityPidNode::on_station_wrench(const wrench_t& m, TimeUs now) {
-  if (!all_finite(m.tau)) {
-    reject(*bad_station_wrench_);  // dropped: the last good one (or none) stays in force
+  // Its contract (core/message_checks.hpp): a known source, each component within +-1e5 (a
+  // 1e300 wrench would otherwise start the hand-over blend). Dropped: the last good one (or
+  // none) stays in force. Non-finite under .nan, the rest under .range.
+  if (checks::check(m) != nullptr) {
+    reject(all_finite(m.tau) ? first_use(range_station_wrench_, "rejected.wrench_station.range")
+                             : *bad_station_wrench_);
     return;
   }
   station_wrench_ = m;

@@ -25,15 +25,22 @@
 #include <tiller/arm_state_t.hpp>
 #include <tiller/controller_mode_t.hpp>
 #include <tiller/esc_output_t.hpp>
+#include <tiller/gnss_fix_t.hpp>
+#include <tiller/heading_t.hpp>
 #include <tiller/heartbeat_t.hpp>
+#include <tiller/imu_t.hpp>
 #include <tiller/joystick_state_t.hpp>
+#include <tiller/leak_t.hpp>
 #include <tiller/manual_demand_t.hpp>
 #include <tiller/manual_velocity_cmd_t.hpp>
 #include <tiller/odometry_t.hpp>
 #include <tiller/path_progress_t.hpp>
 #include <tiller/path_t.hpp>
+#include <tiller/power_t.hpp>
+#include <tiller/pressure_t.hpp>
 #include <tiller/station_target_t.hpp>
 #include <tiller/thruster_command_t.hpp>
+#include <tiller/vehicle_status_t.hpp>
 #include <tiller/velocity_setpoint_t.hpp>
 #include <tiller/wrench_t.hpp>
 
@@ -68,6 +75,15 @@ inline bool source(std::int8_t s) {
 }
 inline bool mode(std::int8_t m) {
   return m >= controller_mode_t::MANUAL_OPEN_LOOP && m <= controller_mode_t::WAYPOINTING;
+}
+// A 3x3 row-major covariance: finite, diagonal >= 0 (all zero: unknown).
+inline bool covariance3(const double (&c)[9]) {
+  return finite(c, 9) && c[0] >= 0 && c[4] >= 0 && c[8] >= 0;
+}
+// The first n entries of a variable-length array of booleans exist.
+template <class V>
+bool has(const V& v, std::int32_t n) {
+  return n >= 0 && v.size() >= static_cast<std::size_t>(n);
 }
 }  // namespace detail
 
@@ -231,6 +247,129 @@ inline Reason check(const heartbeat_t& m) {
   if (m.n_counters < 0 || m.n_counters > 64) return "n_counters.range";
   for (std::int64_t v : m.counter_values)
     if (v < 0) return "counter.range";
+  return nullptr;
+}
+
+// ---- sensors (issue 14): every range is the one in the type's .lcm comment.
+
+// gnss_fix_t: times >= 0; a known fix type and accuracy source; satellites -1..255; latitude
+// [-90, 90], longitude [-180, 180] deg; altitudes [-1e4, 1e5] m; position_std [0, 1e5] m; hdop
+// [0, 100]; speed [0, 300] m/s; course in (-pi, pi]. Checked whatever the fix type (a driver
+// fills a no-fix message with zeros, never NaN).
+inline Reason check(const gnss_fix_t& m) {
+  using namespace detail;
+  if (m.utime < 0 || m.gnss_utime < 0) return "utime.range";
+  if (m.fix_type < gnss_fix_t::FIX_NONE || m.fix_type > gnss_fix_t::FIX_DEAD_RECKONING)
+    return "fix_type.unknown";
+  if (m.satellites < -1 || m.satellites > 255) return "satellites.range";
+  if (!within(&m.latitude, 1, -90, 90)) return "latitude.range";
+  if (!within(&m.longitude, 1, -180, 180)) return "longitude.range";
+  if (!within(&m.altitude, 1, -1e4, 1e5) || !within(&m.altitude_msl, 1, -1e4, 1e5))
+    return "altitude.range";
+  if (!within(m.position_std, 3, 0, 1e5)) return "position_std.range";
+  if (m.accuracy_source < gnss_fix_t::ACCURACY_NONE ||
+      m.accuracy_source > gnss_fix_t::ACCURACY_RECEIVER)
+    return "accuracy_source.unknown";
+  if (!within(&m.hdop, 1, 0, 100)) return "hdop.range";
+  if (!within(&m.speed, 1, 0, 300)) return "speed.range";
+  if (!heading(m.course)) return "course.range";
+  return nullptr;
+}
+
+// imu_t: utime >= 0; rates within +-40 rad/s, specific force within +-400 m/s^2; orientation
+// finite and, when valid, of norm in [0.99, 1.01]; covariances finite with diagonals >= 0;
+// calibration levels -1..3; temperature [-60, 150] degC.
+inline Reason check(const imu_t& m) {
+  using namespace detail;
+  if (m.utime < 0) return "utime.range";
+  if (!within(m.angular_rate, 3, -40, 40)) return "angular_rate.range";
+  if (!within(m.specific_force, 3, -400, 400)) return "specific_force.range";
+  if (!finite(m.orientation, 4)) return "orientation.nan";
+  if (m.orientation_valid) {
+    const double n2 = m.orientation[0] * m.orientation[0] + m.orientation[1] * m.orientation[1] +
+                      m.orientation[2] * m.orientation[2] + m.orientation[3] * m.orientation[3];
+    if (!(n2 >= 0.99 * 0.99 && n2 <= 1.01 * 1.01)) return "orientation.norm";
+  }
+  if (!covariance3(m.angular_rate_covariance)) return "angular_rate_cov.range";
+  if (!covariance3(m.specific_force_covariance)) return "specific_force_cov.range";
+  if (!covariance3(m.orientation_covariance)) return "orientation_cov.range";
+  for (std::int8_t c :
+       {m.calibration_system, m.calibration_gyro, m.calibration_accel, m.calibration_mag})
+    if (c < -1 || c > 3) return "calibration.range";
+  if (!within(&m.temperature, 1, -60, 150)) return "temperature.range";
+  return nullptr;
+}
+
+// heading_t: utime >= 0; heading in (-pi, pi]; variance [0, 10] rad^2; known reference and
+// source.
+inline Reason check(const heading_t& m) {
+  using namespace detail;
+  if (m.utime < 0) return "utime.range";
+  if (!heading(m.heading)) return "heading.range";
+  if (!within(&m.variance, 1, 0, 10)) return "variance.range";
+  if (m.reference != heading_t::REFERENCE_MAGNETIC && m.reference != heading_t::REFERENCE_TRUE)
+    return "reference.unknown";
+  if (m.source < heading_t::SOURCE_MAGNETOMETER || m.source > heading_t::SOURCE_SIM)
+    return "source.unknown";
+  return nullptr;
+}
+
+// pressure_t: utime >= 0; pressure [0, 2e7] Pa; temperature [-40, 125] degC; depth [-1e3, 2e3]
+// m; density [900, 1100] kg/m^3; surface pressure [5e4, 1.2e5] Pa; depth variance [0, 1e4] m^2;
+// and depth is what the contract's formula gives from the others (within 1 mm).
+inline Reason check(const pressure_t& m) {
+  using namespace detail;
+  if (m.utime < 0) return "utime.range";
+  if (!within(&m.pressure, 1, 0, 2e7)) return "pressure.range";
+  if (!within(&m.temperature, 1, -40, 125)) return "temperature.range";
+  if (!within(&m.water_density, 1, 900, 1100)) return "water_density.range";
+  if (!within(&m.surface_pressure, 1, 5e4, 1.2e5)) return "surface_pressure.range";
+  if (!within(&m.depth_variance, 1, 0, 1e4)) return "depth_variance.range";
+  if (!within(&m.depth, 1, -1e3, 2e3)) return "depth.range";
+  const double d = (m.pressure - m.surface_pressure) / (m.water_density * 9.80665);
+  if (std::fabs(d - m.depth) > 1e-3) return "depth.inconsistent";
+  return nullptr;
+}
+
+// power_t: utime >= 0; voltage [0, 100] V; current [-1000, 1000] A; power [-1e5, 1e5] W;
+// consumed charge [-1e4, 1e4] Ah; consumed energy [-1e6, 1e6] Wh.
+inline Reason check(const power_t& m) {
+  using namespace detail;
+  if (m.utime < 0) return "utime.range";
+  if (!within(&m.voltage, 1, 0, 100)) return "voltage.range";
+  if (!within(&m.current, 1, -1000, 1000)) return "current.range";
+  if (!within(&m.power, 1, -1e5, 1e5)) return "power.range";
+  if (!within(&m.consumed_charge, 1, -1e4, 1e4)) return "consumed_charge.range";
+  if (!within(&m.consumed_energy, 1, -1e6, 1e6)) return "consumed_energy.range";
+  return nullptr;
+}
+
+// leak_t: utime >= 0; 0..32 probes with names, wet and readable for each; an unreadable probe
+// reads wet (fail safe); any_wet is the OR of wet.
+inline Reason check(const leak_t& m) {
+  using namespace detail;
+  if (m.utime < 0) return "utime.range";
+  if (m.n_probes < 0 || m.n_probes > 32) return "n_probes.range";
+  if (!has(m.names, m.n_probes) || !has(m.wet, m.n_probes) || !has(m.readable, m.n_probes))
+    return "probes.size";
+  bool any = false;
+  for (std::int32_t i = 0; i < m.n_probes; ++i) {
+    if (!m.readable[i] && !m.wet[i]) return "wet.unreadable";
+    any = any || m.wet[i];
+  }
+  if (any != m.any_wet) return "any_wet.inconsistent";
+  return nullptr;
+}
+
+// vehicle_status_t: utime >= 0; only known EVENT_* bits; every active bit also latched; a known
+// action.
+inline Reason check(const vehicle_status_t& m) {
+  if (m.utime < 0) return "utime.range";
+  if ((m.active & ~vehicle_status_t::EVENT_ALL) != 0) return "active.unknown";
+  if ((m.latched & ~vehicle_status_t::EVENT_ALL) != 0) return "latched.unknown";
+  if ((m.active & ~m.latched) != 0) return "latched.inconsistent";
+  if (m.action < vehicle_status_t::ACTION_NONE || m.action > vehicle_status_t::ACTION_DISARM)
+    return "action.unknown";
   return nullptr;
 }
 

@@ -7,6 +7,7 @@
 #include <tiller/heartbeat_t.hpp>
 
 #include "core/checks.hpp"
+#include "core/message_checks.hpp"
 #include "runtime/channels.hpp"
 
 namespace tiller {
@@ -129,6 +130,11 @@ esc::StartReport EscNode::start(TimeUs now) {
 void EscNode::on_command(const thruster_command_t& m, TimeUs now) {
   if (m.n_thrusters < 0 || m.n_thrusters > 16) {
     reject(*c_missing_);
+    return;
+  }
+  if (!checks::detail::source(m.source)) {  // its contract: a wrench_t SOURCE_* constant
+    if (c_source_ == nullptr) c_source_ = &counter("rejected.command.source");  // on first use
+    reject(*c_source_);
     return;
   }
   const auto n = static_cast<std::size_t>(m.n_thrusters);

@@ -118,6 +118,7 @@ class EscNode : public Node {
   std::int64_t* c_range_;
   std::int64_t* c_missing_;
   std::int64_t* c_unknown_;
+  std::int64_t* c_source_ = nullptr;  // made on first use
   std::int64_t* c_arm_refused_;
   std::int64_t* c_bus_errors_;
 };

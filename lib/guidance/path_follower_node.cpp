@@ -38,16 +38,11 @@ PathFollowerNode::PathFollowerNode(const FollowerNodeParams& p)
 }
 
 void PathFollowerNode::on_path(const path_t& m, TimeUs) {
-  if (m.n_waypoints < 0 || m.n_waypoints > 10000 ||
-      static_cast<int>(m.waypoints.size()) != m.n_waypoints) {
+  // Its contract (core/message_checks.hpp): 0..10000 waypoints, positions within 1e6 m,
+  // headings (where given) in (-pi, pi].
+  if (checks::check(m) != nullptr || static_cast<int>(m.waypoints.size()) != m.n_waypoints) {
     reject(*invalid_path_);
     return;
-  }
-  for (const auto& w : m.waypoints) {
-    if (!all_in_range(w.position, -1e6, 1e6) || (w.has_heading && !std::isfinite(w.heading))) {
-      reject(*invalid_path_);
-      return;
-    }
   }
   if (m.n_waypoints == 0) {  // cancel
     follower_.clear();

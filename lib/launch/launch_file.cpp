@@ -8,6 +8,7 @@
 #include <stdexcept>
 
 #include "core/config.hpp"
+#include "core/lcm_url.hpp"
 #include "runtime/channels.hpp"
 
 namespace tiller::launch {
@@ -80,9 +81,8 @@ LaunchFile load_launch(const config::Value& root, const std::string& file_dir) {
   lf.name = root.string("name");
   lf.description = root.string_or("description", "");
   lf.lcm_url = root.string_or("lcm_url", channels::kDefaultLcmUrl);
-  if (lf.lcm_url.rfind("udpm://", 0) == 0 && lf.lcm_url.find("ttl=") != std::string::npos &&
-      lf.lcm_url.find("ttl=0") == std::string::npos) {
-    root.at("lcm_url").fail("a udpm:// URL with ttl=0 (LCM traffic never leaves the machine)");
+  if (const std::string why = lcm_url_problem(lf.lcm_url); !why.empty()) {
+    root.at("lcm_url").fail(why);
   }
   const std::string rel_root = root.string_or("root", "../..");
   std::error_code ec;

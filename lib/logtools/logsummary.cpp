@@ -11,6 +11,65 @@
 
 namespace tiller::logtools {
 
+double ProcessHealth::missed_fraction() const {
+  if (ticks_run < 0) return -1.0;
+  const std::int64_t all = ticks_run + ticks_missed;
+  return all > 0 ? static_cast<double>(ticks_missed) / static_cast<double>(all) : 0.0;
+}
+
+namespace {
+const char* state_name(int state) {
+  return state == heartbeat_t::STATE_OK         ? "ok"
+         : state == heartbeat_t::STATE_DEGRADED ? "DEGRADED"
+                                                : "FAULT";
+}
+
+// Counters that mean an input was dropped or something went wrong.
+bool is_drop_counter(const std::string& name) {
+  for (const char* p :
+       {"rejected.", "malformed.", "exception.", "unadvertised.", "overrun.", "fault."})
+    if (name.rfind(p, 0) == 0) return true;
+  return false;
+}
+
+std::vector<std::string> attention(const LogSummary& s) {
+  std::vector<std::string> out;
+  char buf[256];
+  for (const auto& p : s.processes) {
+    const double f = p.missed_fraction();
+    if (f > kMissedTicksLimit) {
+      std::snprintf(buf, sizeof buf, "%s: missed %lld of %lld ticks (%.1f %%, above %.0f %%)",
+                    p.process.c_str(), static_cast<long long>(p.ticks_missed),
+                    static_cast<long long>(p.ticks_run + p.ticks_missed), 100.0 * f,
+                    100.0 * kMissedTicksLimit);
+      out.push_back(buf);
+    } else if (f < 0 && p.ticks_missed > 0) {
+      out.push_back(p.process + ": missed " + std::to_string(p.ticks_missed) +
+                    " ticks (the log does not say how many ran)");
+    }
+    if (p.worst_state != heartbeat_t::STATE_OK) {
+      std::snprintf(buf, sizeof buf, "%s: %s from %.1f s (\"%s\")%s", p.process.c_str(),
+                    state_name(p.worst_state), to_seconds(p.worst_at - s.start),
+                    p.worst_status.c_str(),
+                    p.state == heartbeat_t::STATE_OK ? ", ok again by its last heartbeat" : "");
+      out.push_back(buf);
+    }
+    std::string drops;
+    for (const auto& [name, v] : p.counters)
+      if (is_drop_counter(name))
+        drops += (drops.empty() ? "" : ", ") + name + " = " + std::to_string(v);
+    if (p.rejected > 0 || p.stale > 0 || !drops.empty())
+      out.push_back(p.process + ": rejected " + std::to_string(p.rejected) + ", stale " +
+                    std::to_string(p.stale) + (drops.empty() ? "" : " (" + drops + ")"));
+  }
+  for (const auto& c : s.channels)
+    if (c.undecodable > 0)
+      out.push_back(c.channel + ": " + std::to_string(c.undecodable) + " of " +
+                    std::to_string(c.count) + " messages do not decode");
+  return out;
+}
+}  // namespace
+
 LogSummary summarize(const std::vector<Event>& events) {
   LogSummary s;
   s.events = static_cast<std::int64_t>(events.size());
@@ -59,11 +118,23 @@ LogSummary summarize(const std::vector<Event>& events) {
       h.rejected = hb.rejected;
       h.stale = hb.stale;
       h.published = hb.published;
+      if (hb.state > h.worst_state) {
+        h.worst_state = hb.state;
+        h.worst_at = e.time;
+        h.worst_status = hb.status;
+      }
       h.counters.clear();
+      h.ticks_run = -1;
+      h.ticks_missed = 0;
       for (int k = 0; k < hb.n_counters && k < static_cast<int>(hb.counter_names.size()); ++k) {
-        if (hb.counter_values[static_cast<std::size_t>(k)] != 0)
-          h.counters[hb.counter_names[static_cast<std::size_t>(k)]] =
-              hb.counter_values[static_cast<std::size_t>(k)];
+        const std::string& name = hb.counter_names[static_cast<std::size_t>(k)];
+        const std::int64_t v = hb.counter_values[static_cast<std::size_t>(k)];
+        if (name == "ticks.run") {
+          h.ticks_run = v;
+          continue;  // shown as the missed fraction, not as a counter
+        }
+        if (name == "ticks.missed") h.ticks_missed = v;
+        if (v != 0) h.counters[name] = v;
       }
     } else if (st.type == "?" || !db.decode(e.data.data(), e.data.size(), dec)) {
       ++st.undecodable;
@@ -92,6 +163,7 @@ LogSummary summarize(const std::vector<Event>& events) {
     s.channels.push_back(st);
   }
   for (auto& [name, h] : health) s.processes.push_back(h);
+  s.attention = attention(s);
   return s;
 }
 
@@ -101,6 +173,11 @@ std::string format_summary(const LogSummary& s) {
   std::snprintf(buf, sizeof buf, "%lld events over %.3f s\n\n", static_cast<long long>(s.events),
                 to_seconds(s.end - s.start));
   os << buf;
+  if (s.attention.empty())
+    os << "attention: nothing (no process missed more than 1 % of its ticks, none was DEGRADED "
+          "or FAULT, no drops or rejections, every message decodes)\n\n";
+  for (const auto& a : s.attention) os << "ATTENTION: " << a << "\n";
+  if (!s.attention.empty()) os << "\n";
   std::size_t w = 7;
   for (const auto& c : s.channels) w = std::max(w, c.channel.size());
   std::snprintf(buf, sizeof buf, "%-*s  %-22s %8s %9s %10s %12s %5s %s\n", static_cast<int>(w),
@@ -118,22 +195,42 @@ std::string format_summary(const LogSummary& s) {
   }
   if (!s.processes.empty()) {
     os << "\nprocesses (last heartbeat)\n";
-    std::snprintf(buf, sizeof buf, "%-16s %4s %-9s %10s %9s %7s %10s  %s\n", "process", "hb",
-                  "state", "received", "rejected", "stale", "published", "status");
+    std::snprintf(buf, sizeof buf, "%-16s %4s %-9s %-9s %7s %10s %9s %7s %10s  %s\n", "process",
+                  "hb", "state", "worst", "missed", "received", "rejected", "stale", "published",
+                  "status");
     os << buf;
     for (const auto& p : s.processes) {
-      const char* st = p.state == heartbeat_t::STATE_OK         ? "ok"
-                       : p.state == heartbeat_t::STATE_DEGRADED ? "degraded"
-                                                                : "FAULT";
-      std::snprintf(buf, sizeof buf, "%-16s %4lld %-9s %10lld %9lld %7lld %10lld  %s\n",
-                    p.process.c_str(), static_cast<long long>(p.heartbeats), st,
-                    static_cast<long long>(p.received), static_cast<long long>(p.rejected),
-                    static_cast<long long>(p.stale), static_cast<long long>(p.published),
-                    p.status.c_str());
+      const double f = p.missed_fraction();
+      char missed[32];
+      if (f < 0)
+        std::snprintf(missed, sizeof missed, "?");
+      else
+        std::snprintf(missed, sizeof missed, "%.1f%%", 100.0 * f);
+      std::snprintf(buf, sizeof buf, "%-16s %4lld %-9s %-9s %7s %10lld %9lld %7lld %10lld  %s\n",
+                    p.process.c_str(), static_cast<long long>(p.heartbeats), state_name(p.state),
+                    state_name(p.worst_state), missed, static_cast<long long>(p.received),
+                    static_cast<long long>(p.rejected), static_cast<long long>(p.stale),
+                    static_cast<long long>(p.published), p.status.c_str());
       os << buf;
       for (const auto& [k, v] : p.counters) os << "    " << k << " = " << v << "\n";
     }
   }
+  os << "\ncolumns: count = messages; rate_hz = (count - 1) / time from first to last; "
+        "period_ms = median interval;\n"
+        "  max_gap_ms@s = largest interval and when it began (s from the start); gaps = "
+        "intervals longer than\n"
+        "  max(3 x period, 200 ms); bad = messages that do not decode as their type.\n";
+  if (!s.processes.empty())
+    os << "  processes, from their heartbeats (TILLER_HEARTBEAT_<NAME>, 1 Hz): hb = heartbeats "
+          "seen; state = in the\n"
+          "  last one, worst = worst in any (ok, DEGRADED: running but an input is stale or a "
+          "device missing,\n"
+          "  FAULT: outputs neutral); missed = ticks.missed / (ticks.run + ticks.missed), ? when "
+          "the log does not\n"
+          "  count ticks run; received, rejected (dropped: malformed, non-finite, out of range), "
+          "stale (times an input\n"
+          "  went stale), published: totals since the process started; then its non-zero "
+          "counters.\n";
   return os.str();
 }
 

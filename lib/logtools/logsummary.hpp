@@ -1,6 +1,9 @@
 // A summary of an LCM log: per channel its type, message count, rate, largest gap and number of
 // gaps, and per process its last heartbeat (state, status, received/rejected/stale/published and
-// every non-zero named counter such as "rejected.odometry.nan"). Times in us, rates in Hz.
+// every non-zero named counter such as "rejected.odometry.nan"), its worst state and its missed
+// ticks; then what needs attention: a process that missed more than 1 % of its ticks, was ever
+// DEGRADED or FAULT, dropped or rejected messages, or a channel with messages that do not
+// decode. format_summary prints it with a legend of the columns. Times in us, rates in Hz.
 #pragma once
 
 #include <cstdint>
@@ -34,13 +37,26 @@ struct ProcessHealth {
   std::string status;
   std::int64_t received = 0, rejected = 0, stale = 0, published = 0;
   std::map<std::string, std::int64_t> counters;  // non-zero named counters of the last heartbeat
+  // The worst state of any heartbeat (OK < DEGRADED < FAULT), when it was first seen and why.
+  int worst_state = 0;
+  TimeUs worst_at = 0;
+  std::string worst_status;
+  // From the last heartbeat's "ticks.run" and "ticks.missed" (the live executor counts both;
+  // ticks_run is -1 when the log has no "ticks.run", as in logs from before it was counted).
+  std::int64_t ticks_run = -1, ticks_missed = 0;
+  // ticks_missed / (ticks_run + ticks_missed); -1 when ticks_run is unknown.
+  double missed_fraction() const;
 };
+
+// Above this fraction of missed ticks a process needs attention.
+inline constexpr double kMissedTicksLimit = 0.01;
 
 struct LogSummary {
   TimeUs start = 0, end = 0;
   std::int64_t events = 0;
   std::vector<ChannelStats> channels;    // by channel name
   std::vector<ProcessHealth> processes;  // by process name
+  std::vector<std::string> attention;    // one line each: "esc: missed 1026 of 8550 ticks ..."
 };
 
 LogSummary summarize(const std::vector<Event>& events);

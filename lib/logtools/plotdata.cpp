@@ -4,22 +4,26 @@
 #include <cmath>
 #include <cstdio>
 #include <fstream>
+#include <optional>
 #include <sstream>
 
+#include "core/angles.hpp"
 #include "logtools/lcm_schema.hpp"
 #include "runtime/channels.hpp"
 
 namespace tiller::logtools {
 
 namespace {
-constexpr double kDeg = 180.0 / 3.14159265358979323846;
-
 std::string num(double v) {
   char b[40];
   std::snprintf(b, sizeof b, "%.6g", v);
   return b;
 }
 }  // namespace
+
+double unwrap_deg(double previous_deg, double heading_rad) {
+  return previous_deg + rad_to_deg(angle_diff(heading_rad, deg_to_rad(previous_deg)));
+}
 
 PlotData write_plot_data(const std::vector<Event>& log, const std::string& dir) {
   PlotData pd;
@@ -34,15 +38,30 @@ PlotData write_plot_data(const std::vector<Event>& log, const std::string& dir) 
   }
   pd.trajectory_source = has_truth ? channels::kGroundTruth : channels::kOdometry;
   std::ofstream traj(dir + "/traj.csv"), path(dir + "/path.csv"), sp(dir + "/setpoint.csv"),
-      prog(dir + "/progress.csv"), cmd(dir + "/cmd.csv"), alloc(dir + "/alloc.csv");
+      prog(dir + "/progress.csv"), cmd(dir + "/cmd.csv"), alloc(dir + "/alloc.csv"),
+      reached(dir + "/reached.csv"), complete(dir + "/complete.csv");
   traj << "t,north,east,heading_deg,speed\n";
   path << "north,east\n";
   sp << "t,speed,heading_deg,active,heading_valid\n";
   prog << "t,cross_track,distance_to_goal\n";
   cmd << "t,commands...\n";
   alloc << "t,scale,saturated\n";
+  reached << "t,north,east,waypoint\n";
+  complete << "t,north,east,waypoint\n";
   std::string last_path;
   Decoded d;
+  // Unwrapped headings: the vehicle's continues from its previous one; the target's is put
+  // nearest the vehicle's (so the two are compared without a 360 offset).
+  std::optional<double> heading_deg;
+  double north = 0, east = 0;  // the latest trajectory point
+  std::int64_t progress_path = -1;
+  int segment = -1;
+  bool was_complete = false;
+  auto mark = [&](double t, int waypoint, bool done) {
+    pd.marks.push_back({t, north, east, waypoint, done});
+    (done ? complete : reached) << num(t) << "," << num(north) << "," << num(east) << ","
+                                << waypoint << "\n";
+  };
   for (const auto& e : log) {
     const double t = to_seconds(e.time - t0);
     const std::string& ch = e.channel;
@@ -51,8 +70,11 @@ PlotData write_plot_data(const std::vector<Event>& log, const std::string& dir) 
                         ch == channels::kThrusterCommand || ch == channels::kAllocationStatus;
     if (!wanted || !db.decode(e.data.data(), e.data.size(), d)) continue;
     if (ch == pd.trajectory_source) {
-      traj << num(t) << "," << num(d.number("position[0]")) << "," << num(d.number("position[1]"))
-           << "," << num(d.number("orientation[2]") * kDeg) << ","
+      const double yaw = d.number("orientation[2]");
+      heading_deg = heading_deg ? unwrap_deg(*heading_deg, yaw) : rad_to_deg(wrap_pi(yaw));
+      north = d.number("position[0]");
+      east = d.number("position[1]");
+      traj << num(t) << "," << num(north) << "," << num(east) << "," << num(*heading_deg) << ","
            << num(std::hypot(d.number("velocity[0]"), d.number("velocity[1]"))) << "\n";
       ++pd.trajectory_rows;
     } else if (ch == channels::kPath) {
@@ -69,14 +91,29 @@ PlotData write_plot_data(const std::vector<Event>& log, const std::string& dir) 
       sp << num(t) << ","
          << (active ? num(std::hypot(d.number("velocity[0]"), d.number("velocity[1]"))) : "NaN")
          << ","
-         << (active && d.number("heading_valid") != 0 ? num(d.number("target_heading") * kDeg)
-                                                      : "NaN")
+         << (active && d.number("heading_valid") != 0
+                 ? num(unwrap_deg(heading_deg.value_or(0.0), d.number("target_heading")))
+                 : "NaN")
          << "," << (active ? 1 : 0) << "," << d.number("heading_valid") << "\n";
       ++pd.setpoint_rows;
     } else if (ch == channels::kPathProgress) {
       prog << num(t) << "," << num(d.number("cross_track_error")) << ","
            << num(d.number("distance_to_goal")) << "\n";
       ++pd.progress_rows;
+      // A new path starts the marks again; moving from segment s to s' reached waypoints
+      // s+1..s'; complete becoming true is the mission's end (at the last waypoint).
+      const auto path_id = static_cast<std::int64_t>(d.number("path_id"));
+      const int seg = static_cast<int>(d.number("segment"));
+      const bool done = d.number("complete") != 0;
+      if (path_id != progress_path) {
+        progress_path = path_id;
+        segment = seg;
+        was_complete = false;
+      }
+      for (int k = std::max(segment, 0) + 1; k <= seg; ++k) mark(t, k, false);
+      segment = std::max(segment, seg);
+      if (done && !was_complete) mark(t, static_cast<int>(d.number("n_waypoints")) - 1, true);
+      was_complete = done;
     } else if (ch == channels::kThrusterCommand) {
       const int n = static_cast<int>(d.number("n_thrusters"));
       if (pd.thruster_names.empty()) {
@@ -110,14 +147,21 @@ std::string gnuplot_script(const PlotData& d, const std::string& dir, const std:
                            const std::string& title) {
   std::ostringstream g;
   auto f = [&](const char* name) { return "'" + dir + "/" + name + "'"; };
+  // Ends a plot command built as "plot a, b, " (a placeholder when no panel data).
+  auto finish = [](std::string plot) {
+    if (plot == "plot ") plot = "plot 0 notitle, ";
+    return plot.substr(0, plot.size() - 2) + "\n";
+  };
+  std::size_t n_reached = 0, n_complete = 0;
+  for (const auto& m : d.marks) ++(m.complete ? n_complete : n_reached);
   g << "set terminal pngcairo size 1600,1200 font 'sans,10' noenhanced\n"
     << "set output '" << png << "'\n"
     << "set datafile separator ','\nset key top right font 'sans,8'\nset grid\n"
     << "set multiplot layout 3,2 title '" << title << "'\n";
-  // 1. Path from above: east to the right, north up, equal scales.
+  // 1. Path from above: east to the right, north up, equal scales; the legend below the track.
   g << "set title 'path and trajectory from above (" << d.trajectory_source
     << ")'\nset xlabel 'east [m]'\nset ylabel 'north [m]'\n"
-    << "set size ratio -1\n";
+    << "set size ratio -1\nset key outside below horizontal\n";
   std::string plot = "plot ";
   if (d.trajectory_rows)
     plot += f("traj.csv") + " every ::1 using 3:2 with lines lw 2 title 'trajectory', " +
@@ -125,32 +169,51 @@ std::string gnuplot_script(const PlotData& d, const std::string& dir, const std:
   if (d.path_points)
     plot += f("path.csv") +
             " every ::1 using 2:1 with linespoints pt 6 ps 1.5 dt 2 title 'path (waypoints)', ";
-  if (plot == "plot ") plot = "plot 0 notitle, ";
-  g << plot.substr(0, plot.size() - 2) << "\nset size noratio\nset xlabel 'time [s]'\n";
+  if (n_reached)
+    plot += f("reached.csv") +
+            " every ::1 using 3:2:(sprintf('%d', $4)) with labels point pt 5 ps 1.2 offset 1,1 "
+            "title 'waypoint reached (index)', ";
+  if (n_complete)
+    plot += f("complete.csv") +
+            " every ::1 using 3:2 with points pt 9 ps 2.5 lc rgb 'dark-green' title 'mission "
+            "complete', ";
+  g << finish(plot) << "set size noratio\nset key inside top right\nset xlabel 'time [s]'\n";
+  // The marks on every time panel: a dotted line at each waypoint reached, a solid one at the
+  // mission's completion.
+  int tag = 1;
+  for (const auto& m : d.marks) {
+    g << "set arrow " << tag << " from first " << num(m.t) << ", graph 0 to first " << num(m.t)
+      << ", graph 1 nohead " << (m.complete ? "lw 2 lc rgb 'dark-green'" : "dt 3 lc rgb 'gray40'")
+      << " back\n"
+      << "set label " << tag << " '" << (m.complete ? "complete" : std::to_string(m.waypoint))
+      << "' at first " << num(m.t) << ", graph 0.03 offset 0.3,0 font 'sans,7'\n";
+    ++tag;
+  }
   // 2. Speed against setpoint.
   g << "set title 'speed over ground vs setpoint'\nset ylabel 'speed [m/s]'\n";
   plot = "plot ";
   if (d.trajectory_rows) plot += f("traj.csv") + " every ::1 using 1:5 with lines title 'speed', ";
   if (d.setpoint_rows)
     plot += f("setpoint.csv") + " every ::1 using 1:2 with lines dt 2 lw 2 title 'setpoint', ";
-  if (plot == "plot ") plot = "plot 0 notitle, ";
-  g << plot.substr(0, plot.size() - 2) << "\n";
-  // 3. Heading.
-  g << "set title 'heading'\nset ylabel 'heading [deg]'\nset yrange [-180:180]\nset ytics 90\n";
+  g << finish(plot);
+  // 3. Heading, unwrapped (no jumps at +-180).
+  g << "set title 'heading (unwrapped)'\nset ylabel 'heading [deg]'\nset ytics 90\n";
   plot = "plot ";
   if (d.trajectory_rows)
-    plot += f("traj.csv") + " every ::1 using 1:4 with points pt 7 ps 0.3 title 'heading', ";
+    plot += f("traj.csv") + " every ::1 using 1:4 with lines lw 2 title 'heading', ";
   if (d.setpoint_rows)
-    plot +=
-        f("setpoint.csv") + " every ::1 using 1:3 with points pt 7 ps 0.2 title 'target heading', ";
-  if (plot == "plot ") plot = "plot 0 notitle, ";
-  g << plot.substr(0, plot.size() - 2) << "\nset autoscale y\nset ytics autofreq\n";
-  // 4. Path-following errors.
-  g << "set title 'path following'\nset ylabel 'm'\n";
+    plot += f("setpoint.csv") + " every ::1 using 1:3 with lines dt 2 title 'target heading', ";
+  g << finish(plot) << "set ytics autofreq\n";
+  // 4. Path-following errors: cross-track (about a metre) on the left axis, distance to goal
+  // (up to the path's length) on the right one.
+  g << "set title 'path following'\nset ylabel 'cross-track error [m] (+ = right of path)'\n";
   if (d.progress_rows) {
-    g << "plot " << f("progress.csv")
-      << " every ::1 using 1:2 with lines title 'cross-track error', " << f("progress.csv")
-      << " every ::1 using 1:3 with lines title 'distance to goal'\n";
+    g << "set y2label 'distance to goal [m]'\nset ytics nomirror\nset y2tics\n"
+      << "plot " << f("progress.csv")
+      << " every ::1 using 1:2 with lines lw 2 title 'cross-track error (left axis)', "
+      << f("progress.csv")
+      << " every ::1 using 1:3 axes x1y2 with lines title 'distance to goal (right axis)'\n"
+      << "unset y2tics\nunset y2label\nset ytics mirror\n";
   } else {
     g << "plot 0 title 'no TILLER_PATH_PROGRESS'\n";
   }
@@ -171,7 +234,7 @@ std::string gnuplot_script(const PlotData& d, const std::string& dir, const std:
   g << "set title 'allocation: scale kept and thrusters saturated'\nset ylabel 'scale'\nset "
        "y2label 'saturated thrusters'\n"
     << "set yrange [0:1.05]\nset y2range [0:" << std::max<std::size_t>(1, d.thruster_names.size())
-    << ".5]\nset y2tics 1\n";
+    << ".5]\nset ytics nomirror\nset y2tics 1\n";
   if (d.allocation_rows) {
     g << "plot " << f("alloc.csv")
       << " every ::1 using 1:2 with lines title 'scale (1 = demand met)', " << f("alloc.csv")

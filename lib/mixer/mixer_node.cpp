@@ -3,8 +3,10 @@
 #include <algorithm>
 #include <cmath>
 #include <filesystem>
+#include <string_view>
 
 #include "core/checks.hpp"
+#include "core/message_checks.hpp"
 #include "runtime/channels.hpp"
 
 namespace tiller {
@@ -19,10 +21,6 @@ std::int8_t source_from_name(const std::string& s) {
   if (s == "velocity_pid") return wrench_t::SOURCE_VELOCITY_PID;
   if (s == "station_keep") return wrench_t::SOURCE_STATION_KEEP;
   return wrench_t::SOURCE_NONE;
-}
-
-bool known_source(std::int8_t s) {
-  return s >= wrench_t::SOURCE_NONE && s <= wrench_t::SOURCE_STATION_KEEP;
 }
 
 }  // namespace
@@ -141,7 +139,7 @@ void MixerNode::on_manual(const manual_demand_t& m, TimeUs now) {
 }
 
 void MixerNode::on_wrench(WrenchInput& in, std::int8_t source, const wrench_t& m, TimeUs now) {
-  if (!all_in_range(m.tau, -kMaxWrenchComponent, kMaxWrenchComponent)) {
+  if (checks::check(m) != nullptr) {  // unknown source, NaN, beyond +-1e5
     in.fresh.reset();
     reject(*rej_wrench_);
   } else if (!m.valid) {
@@ -163,14 +161,18 @@ void MixerNode::on_wrench_station(const wrench_t& m, TimeUs now) {
 // Arbitration and arm state publish at once when they change what the mixer does (the active
 // source; armed or not), not on every repetition.
 void MixerNode::on_arbitration(const arbitration_t& m, TimeUs now) {
-  const std::int8_t before = source_now(now);
-  if (!known_source(m.active_source)) {
-    arb_fresh_.reset();
-    reject(*rej_arb_);
-  } else {
-    arb_source_ = m.active_source;
-    arb_fresh_.mark(now);
+  // A refused arbitration (unknown source or mode) is dropped: the last good one stays in force
+  // until it is stale. Making it absent would hand the thrusters to fallback_source (often the
+  // pilot's stick) on one bad packet.
+  if (const char* why = checks::check(m)) {
+    if (std::string_view(why) == "mode.unknown" && rej_arb_mode_ == nullptr)
+      rej_arb_mode_ = &counter("rejected.arbitration.mode");  // on first use
+    reject(std::string_view(why) == "mode.unknown" ? *rej_arb_mode_ : *rej_arb_);
+    return;
   }
+  const std::int8_t before = source_now(now);
+  arb_source_ = m.active_source;
+  arb_fresh_.mark(now);
   if (p_.publish_every_input || source_now(now) != before) output(now);
 }
 

@@ -102,6 +102,7 @@ class MixerNode : public Node {
   std::int64_t* rej_manual_;
   std::int64_t* rej_wrench_;
   std::int64_t* rej_arb_;
+  std::int64_t* rej_arb_mode_ = nullptr;  // made on first use
   std::int64_t* neutral_disarmed_;
   std::int64_t* neutral_no_input_;
   std::int64_t stale_seen_ = 0;

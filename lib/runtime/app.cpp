@@ -11,6 +11,7 @@
 #include <stdexcept>
 
 #include "core/config.hpp"
+#include "core/lcm_url.hpp"
 #include "runtime/channels.hpp"
 
 namespace tiller::app {
@@ -27,31 +28,44 @@ bool Args::flag(const std::string& name) const {
 }
 
 namespace {
-void usage(const Spec& spec, std::ostream& os) {
-  os << "Usage: " << spec.program << " [options]\n" << spec.summary << "\n\nOptions:\n";
-  os << "  --help               show this help\n";
-  if (spec.takes_config) {
-    os << "  --config FILE        YAML config"
-       << (spec.default_config.empty() ? "" : " (default: " + spec.default_config + ")") << "\n";
-  } else {
-    os << "  --config FILE        not taken: " << spec.program << " has no config file\n";
-  }
-  if (spec.takes_lcm_url) {
-    os << "  --lcm-url URL        LCM URL (default: " << channels::kDefaultLcmUrl << ")\n";
-    os << "  --key-file FILE      the vehicle's signing key (tiller-key; default: "
-          "$TILLER_KEY_FILE)\n";
-    os << "  --require-signed     refuse unsigned input (default: $TILLER_REQUIRE_SIGNED)\n";
-    os << "  --auth-window-s S    replay window in s (default: $TILLER_AUTH_WINDOW_S, else 1)\n";
-  } else {
-    os << "  --lcm-url URL        not taken: " << spec.program << " opens no LCM\n";
-  }
-  for (const auto& o : spec.options) {
-    std::string lhs = "--" + o.name + (o.value_name.empty() ? "" : " " + o.value_name);
+std::string usage_line(const Spec& spec) {
+  return "Usage: " + spec.program + " [options]" +
+         (spec.arguments.empty() ? "" : " " + spec.arguments);
+}
+
+void help(const Spec& spec, std::ostream& os) {
+  os << usage_line(spec) << "\n" << spec.summary << "\n\nOptions:\n";
+  auto line = [&](std::string lhs, const std::string& text, const std::string& default_value) {
     if (lhs.size() < 20) lhs.resize(20, ' ');
-    os << "  " << lhs << " " << o.help;
-    if (!o.default_value.empty()) os << " (default: " << o.default_value << ")";
+    os << "  " << lhs << " " << text;
+    if (!default_value.empty()) os << " (default: " << default_value << ")";
     os << "\n";
+  };
+  line("--help", "show this help and exit", "");
+  if (spec.takes_config) line("--config FILE", spec.config_help, spec.default_config);
+  if (spec.takes_lcm_url)
+    line("--lcm-url URL", "LCM URL; ttl=0 is added unless the URL sets ttl",
+         std::string("$LCM_DEFAULT_URL, else ") + channels::kDefaultLcmUrl);
+  for (const auto& o : spec.options)
+    line("--" + o.name + (o.value_name.empty() ? "" : " " + o.value_name), o.help, o.default_value);
+}
+
+// The positional argument at `index` is one too many: its message, or "" when it is taken.
+std::string extra_positional(const Spec& spec, const std::vector<std::string>& positional) {
+  if (positional.empty()) return "";
+  std::size_t max = spec.max_positional;
+  if (auto c = spec.commands.find(positional[0]); c != spec.commands.end()) max = 1 + c->second;
+  if (positional.size() <= max) return "";
+  const std::string& extra = positional[max];
+  std::string takes;
+  if (max == 0 && !spec.commands.empty()) {
+    for (const auto& [name, n] : spec.commands) takes += (takes.empty() ? "" : ", ") + name;
+    takes = "commands: " + takes;
+  } else {
+    takes = spec.program + " takes " +
+            (spec.arguments.empty() ? "no positional arguments" : spec.arguments);
   }
+  return "unexpected argument '" + extra + "' (" + takes + ")";
 }
 }  // namespace
 
@@ -146,13 +160,17 @@ Args parse(int argc, char** argv, const Spec& spec) {
   a.config = spec.default_config;
   const char* env_url = std::getenv("LCM_DEFAULT_URL");
   a.lcm_url = env_url ? env_url : channels::kDefaultLcmUrl;
+  if (const std::string why = lcm_url_problem(a.lcm_url); !why.empty()) {
+    std::cerr << spec.program << ": LCM_DEFAULT_URL: expected " << why << "\n";
+    std::exit(2);
+  }
   for (const auto& o : spec.options) {
     if (o.default_value.empty()) continue;
     a.values[o.name] = o.value_name == "FILE" ? resolve_path(o.default_value) : o.default_value;
   }
   auto bad = [&](const std::string& msg) {
-    std::cerr << spec.program << ": " << msg << "\n";
-    usage(spec, std::cerr);
+    std::cerr << spec.program << ": " << msg << "\n"
+              << usage_line(spec) << "\n(" << spec.program << " --help lists the options)\n";
     std::exit(2);
   };
   std::string key_file = env_or_empty("TILLER_KEY_FILE");
@@ -174,7 +192,7 @@ Args parse(int argc, char** argv, const Spec& spec) {
     };
     if (s.rfind("--", 0) == 0 && s != "--") a.given.insert(s.substr(2));
     if (s == "--help" || s == "-h") {
-      usage(spec, std::cout);
+      help(spec, std::cout);
       std::exit(0);
     } else if (s == "--config") {
       if (!spec.takes_config) {
@@ -184,6 +202,8 @@ Args parse(int argc, char** argv, const Spec& spec) {
     } else if (s == "--lcm-url") {
       if (!spec.takes_lcm_url) bad("--lcm-url is not taken: " + spec.program + " opens no LCM");
       a.lcm_url = take();
+      if (const std::string why = lcm_url_problem(a.lcm_url); !why.empty())
+        bad("--lcm-url: expected " + why);
     } else if (s == "--key-file" || s == "--require-signed" || s == "--auth-window-s") {
       if (!spec.takes_lcm_url) bad(s + " is not taken: " + spec.program + " opens no LCM");
       if (s == "--key-file") key_file = take();
@@ -202,6 +222,7 @@ Args parse(int argc, char** argv, const Spec& spec) {
       a.positional.push_back(s);
     }
   }
+  if (const std::string extra = extra_positional(spec, a.positional); !extra.empty()) bad(extra);
   a.config = resolve_path(a.config);
   if (spec.takes_lcm_url) load_auth(a, spec, key_file, require, window);
   return a;

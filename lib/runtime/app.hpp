@@ -4,8 +4,14 @@
 // Paths: a relative --config (given or default) that does not exist from the current directory
 // is looked up in the source tree (<source>/ then <source>/config/), so every program finds its
 // default config from any directory; so are the defaults of options whose value is a FILE.
-// Standard options a program does not use (Spec::takes_config / takes_lcm_url false) are
-// refused with a message (exit 2) instead of being silently ignored.
+// Standard options a program does not use (Spec::takes_config / takes_lcm_url false) are not
+// listed by --help and are refused with a message (exit 2) instead of being silently ignored;
+// so is a positional argument the program does not take (Spec::arguments, max_positional,
+// commands).
+//
+// --help prints one usage line ("Usage: tiller-plot [options] LOG"), the summary, then each
+// option once with its value, unit or range in the help text and its default (when it has a
+// fixed one) shown once, from Option::default_value.
 //
 // Message signing (docs/safety.md, "Who may command"): a program that opens LCM also takes
 //   --key-file FILE      the vehicle's key (default: $TILLER_KEY_FILE), checked at start-up: a
@@ -40,6 +46,15 @@ struct Spec {
   std::vector<Option> options;
   bool takes_config = true;   // false: --config is refused (the program has no config file)
   bool takes_lcm_url = true;  // false: --lcm-url is refused (the program opens no LCM)
+  // Positional arguments, as the usage line shows them after "[options]" ("LOG"); empty: none.
+  std::string arguments = {};
+  // At most this many positional arguments; the first one more is refused, naming it.
+  std::size_t max_positional = 0;
+  // Commands (tiller-log summary LOG): when the first positional argument is one of these, at
+  // most commands[it] more follow; a first word that is neither a command nor allowed by
+  // max_positional is refused, naming it and the commands.
+  std::map<std::string, std::size_t> commands = {};
+  std::string config_help = "YAML config";  // --config's line in --help
 };
 
 struct Args {
@@ -48,14 +63,16 @@ struct Args {
   std::map<std::string, std::string> values;  // program-specific options (flags: "1")
   std::vector<std::string> positional;
   std::set<std::string> given;  // options named on the command line ("config", "lcm-url", ...)
-  auth::Policy auth;  // signing: key loaded and checked, require_signed, window
+  auth::Policy auth;            // signing: key loaded and checked, require_signed, window
   const std::string& get(const std::string& name) const;
   bool flag(const std::string& name) const;
   // True when --NAME was on the command line (not just its default).
   bool explicitly(const std::string& name) const { return given.count(name) > 0; }
 };
 
-// Parses argv; prints usage and exits 0 on --help, exits 2 with a message on bad usage.
+// Parses argv; prints the help and exits 0 on --help; exits 2 with a message naming the problem
+// and the usage line on bad usage (an unknown option, a missing value, an option or a
+// positional argument the program does not take).
 Args parse(int argc, char** argv, const Spec& spec);
 
 // `path` as given if it is empty, absolute or exists from the current directory; else the

@@ -27,7 +27,15 @@ inline constexpr const char* kThrusterCommand = "TILLER_THRUSTER_COMMAND";    //
 inline constexpr const char* kEscOutput = "TILLER_ESC_OUTPUT";                // esc_output_t
 inline constexpr const char* kEscTelemetry = "TILLER_ESC_TELEMETRY";          // esc_telemetry_t
 inline constexpr const char* kEscStatus = "TILLER_ESC_STATUS";                // esc_bus_status_t
-inline constexpr const char* kHeartbeatPrefix = "TILLER_HEARTBEAT_";  // heartbeat_t, + PROCESS
+// Sensors (a driver's config may name another channel, e.g. for a second pressure sensor).
+inline constexpr const char* kGnss = "TILLER_GNSS";                     // gnss_fix_t
+inline constexpr const char* kImu = "TILLER_IMU";                       // imu_t
+inline constexpr const char* kHeading = "TILLER_HEADING";               // heading_t
+inline constexpr const char* kPressure = "TILLER_PRESSURE";             // pressure_t
+inline constexpr const char* kPower = "TILLER_POWER";                   // power_t
+inline constexpr const char* kLeak = "TILLER_LEAK";                     // leak_t
+inline constexpr const char* kVehicleStatus = "TILLER_VEHICLE_STATUS";  // vehicle_status_t
+inline constexpr const char* kHeartbeatPrefix = "TILLER_HEARTBEAT_";    // heartbeat_t, + PROCESS
 
 // The default LCM URL: multicast with TTL 0, so nothing leaves the host.
 inline constexpr const char* kDefaultLcmUrl = "udpm://239.255.76.67:7667?ttl=0";

@@ -1,10 +1,10 @@
 // Live executor: runs nodes under LCM on wall-clock time (the only place in lib/ that reads a
 // clock). Ticks follow each node's grid on CLOCK_REALTIME (us since the epoch, the time base
 // lcm-logger stamps events with): a tick runs once the clock has reached its grid point and is
-// told the grid time (node.hpp); grid points skipped after run() starts are counted in
-// "ticks.missed". Messages are delivered as they arrive, told their receive time. Receiving
-// allocates nothing: channels are subscribed through LCM's C API, and the channel name reaches
-// Node::deliver as a view.
+// told the grid time (node.hpp); ticks run are counted in "ticks.run" and grid points skipped
+// after run() starts in "ticks.missed". Messages are delivered as they arrive, told their receive
+// time. Receiving allocates nothing: channels are subscribed through LCM's C API, and the channel
+// name reaches Node::deliver as a view.
 //
 // Every way out of run() calls every node's shutdown() (ESCs to neutral) first:
 //   * SIGINT/SIGTERM (from construction on) or stop(): returns 0;

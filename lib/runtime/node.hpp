@@ -79,7 +79,8 @@ class Node {
   // Runs on_tick(now), then the heartbeat if one is due. Never throws: an exception from
   // on_tick is counted ("exception.tick") and latches FAULT; returns false if it threw.
   bool tick(TimeUs now);
-  // Executor side: `n` grid points were skipped (counted in "ticks.missed").
+  // Executor side, the live executor before each tick it runs: counts that tick in "ticks.run"
+  // and the `n` grid points skipped before it in "ticks.missed".
   void count_missed_ticks(std::int64_t n);
   // Executor side: an exception outside the node's own handlers that concerns it (an fd
   // callback): counted under `counter_name` and latches FAULT with `what` as the status.

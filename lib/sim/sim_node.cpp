@@ -8,6 +8,7 @@
 
 #include "core/angles.hpp"
 #include "core/checks.hpp"
+#include "core/message_checks.hpp"
 #include "runtime/channels.hpp"
 
 namespace tiller {
@@ -226,6 +227,10 @@ void SimNode::on_esc_output(const esc_output_t& m, TimeUs now) {
   }
   if (m.unit != esc_output_t::UNIT_THROTTLE_INT16 && m.unit != esc_output_t::UNIT_PULSE_US) {
     reject(*rej_unit_);
+    return;
+  }
+  if (checks::check(m) != nullptr) {  // the rest of its contract: values, normalized in [-1, 1]
+    reject(*rej_range_);
     return;
   }
   std::array<double, sim::kMaxThrusters> target{};

@@ -101,7 +101,7 @@ void TeleopNode::on_arm_state(const arm_state_t& a, TimeUs now) {
 void TeleopNode::process(const joystick_state_t& s, TimeUs now) {
   // Only the first n_axes / n_buttons entries count: a message decoded into a reused object
   // keeps the previous arrays when its count is 0 (lcm-gen resizes only for a count > 0).
-  if (s.n_axes < 0 || s.n_axes > 64 || s.n_buttons < 0 || s.n_buttons > 128 ||
+  if (checks::check(s) != nullptr ||  // counts and axis values (-32767..32767)
       static_cast<int>(s.axes.size()) < s.n_axes ||
       static_cast<int>(s.buttons.size()) < s.n_buttons) {
     reject(*rejected_state_);

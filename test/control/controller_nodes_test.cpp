@@ -14,6 +14,7 @@
 #include <set>
 #include <vector>
 
+#include "bad_values.hpp"
 #include "control/station_keep_node.hpp"
 #include "control/velocity_pid_node.hpp"
 #include "core/config.hpp"
@@ -327,38 +328,18 @@ Inject bad(const std::string& channel, Msg m) {
   return [channel, m](LockstepExecutor& ex) { ex.inject(channel, m, kBadAt); };
 }
 
-// Odometry cases shared by both nodes (the good message is odom(t, 0, 0, 0.1, 0.5)).
+// Odometry cases shared by both nodes: every bad odometry value of test/common/bad_values.hpp
+// applied to this test's good message (odom(t, 0, 0, 0.1, 0.5)), counted under .nan or .range.
 std::vector<BadCase> bad_odometry() {
-  auto o = [](auto f) {
+  std::vector<BadCase> out;
+  for (const auto& b : test::bad_values<odometry_t>()) {
     odometry_t m = odom(kBadAt, 0, 0, 0.1, 0.5);
-    f(m);
-    return bad(channels::kOdometry, m);
-  };
-  return {
-      {"odometry position NaN", o([](odometry_t& m) { m.position[0] = NAN; }),
-       "rejected.odometry.nan"},
-      {"odometry velocity inf", o([](odometry_t& m) { m.velocity[5] = INFINITY; }),
-       "rejected.odometry.nan"},
-      {"odometry yaw NaN", o([](odometry_t& m) { m.orientation[2] = NAN; }),
-       "rejected.odometry.nan"},
-      {"odometry yaw 4 rad", o([](odometry_t& m) { m.orientation[2] = 4.0; }),
-       "rejected.odometry.range"},
-      {"odometry yaw -pi", o([](odometry_t& m) { m.orientation[2] = -kPi; }),
-       "rejected.odometry.range"},
-      {"odometry pitch 1.6 rad", o([](odometry_t& m) { m.orientation[1] = 1.6; }),
-       "rejected.odometry.range"},
-      {"odometry pose covariance of 9", o([](odometry_t& m) {
-         m.n_pose_cov = 9;
-         m.pose_covariance.assign(9, 0.01);
-       }),
-       "rejected.odometry.range"},
-      {"odometry velocity covariance NaN", o([](odometry_t& m) {
-         m.n_velocity_cov = 36;
-         m.velocity_covariance.assign(36, 0.0);
-         m.velocity_covariance[7] = NAN;
-       }),
-       "rejected.odometry.nan"},
-  };
+    b.apply(m);
+    out.push_back({std::string("odometry ") + b.what, bad(channels::kOdometry, m),
+                   b.kind == test::BadKind::kNonFinite ? "rejected.odometry.nan"
+                                                       : "rejected.odometry.range"});
+  }
+  return out;
 }
 
 allocation_status_t good_alloc(std::int8_t source) {

@@ -12,6 +12,7 @@
 #include <set>
 #include <vector>
 
+#include "bad_values.hpp"
 #include "core/config.hpp"
 #include "guidance/path_follower_node.hpp"
 #include "runtime/channels.hpp"
@@ -233,44 +234,25 @@ TEST(PathFollowerNode, MalformedInputOfEachTypeIsDroppedCountedAndChangesNothing
   bad_mode.mode = 5;
   bad_mode.is_translation = true;
   bad_mode.source = "test";
-  const std::vector<BadCase> cases = {
-      {"odometry position NaN", o([](odometry_t& m) { m.position[0] = NAN; }),
-       "rejected.odometry.nan"},
-      {"odometry velocity inf", o([](odometry_t& m) { m.velocity[1] = -INFINITY; }),
-       "rejected.odometry.nan"},
-      {"odometry yaw 4 rad", o([](odometry_t& m) { m.orientation[2] = 4.0; }),
-       "rejected.odometry.range"},
-      {"odometry yaw -pi", o([](odometry_t& m) { m.orientation[2] = -kPi; }),
-       "rejected.odometry.range"},
-      {"odometry roll 3.5 rad", o([](odometry_t& m) { m.orientation[0] = 3.5; }),
-       "rejected.odometry.range"},
-      {"odometry pose covariance of 9", o([](odometry_t& m) {
-         m.n_pose_cov = 9;
-         m.pose_covariance.assign(9, 0.01);
-       }),
-       "rejected.odometry.range"},
-      {"odometry pose covariance NaN", o([](odometry_t& m) {
-         m.n_pose_cov = 36;
-         m.pose_covariance.assign(36, 0.01);
-         m.pose_covariance[0] = NAN;
-       }),
-       "rejected.odometry.nan"},
-      {"path waypoint NaN", wp([](path_t& p) { p.waypoints[1].position[1] = NAN; }),
-       "rejected.path.invalid"},
-      {"path waypoint 2e6 m", wp([](path_t& p) { p.waypoints[1].position[0] = 2e6; }),
-       "rejected.path.invalid"},
-      {"path heading NaN", wp([](path_t& p) {
-         p.waypoints[1].has_heading = true;
-         p.waypoints[1].heading = NAN;
-       }),
-       "rejected.path.invalid"},
-      {"path of 10001 waypoints", wp([](path_t& p) {
-         p.waypoints.resize(10001);
-         p.n_waypoints = 10001;
-       }),
-       "rejected.path.invalid"},
-      {"mode unknown", bad(channels::kMode, bad_mode), "rejected.mode.invalid"},
-  };
+  // Every bad odometry and path value of test/common/bad_values.hpp, applied to this test's
+  // good messages.
+  std::vector<BadCase> cases;
+  for (const auto& b : test::bad_values<odometry_t>()) {
+    cases.push_back({std::string("odometry ") + b.what, o(b.apply),
+                     b.kind == test::BadKind::kNonFinite ? "rejected.odometry.nan"
+                                                         : "rejected.odometry.range"});
+  }
+  for (const auto& b : test::bad_values<path_t>())
+    cases.push_back({std::string("path ") + b.what, wp(b.apply), "rejected.path.invalid"});
+  cases.push_back({"odometry roll 3.5 rad", o([](odometry_t& m) { m.orientation[0] = 3.5; }),
+                   "rejected.odometry.range"});
+  cases.push_back({"path of 10001 waypoints", wp([](path_t& p) {
+                     p.waypoints.resize(10001);
+                     p.n_waypoints = 10001;
+                   }),
+                   "rejected.path.invalid"});
+  cases.push_back({"mode unknown", bad(channels::kMode, bad_mode), "rejected.mode.invalid"});
+
   for (const auto& c : cases) {
     SCOPED_TRACE(c.what);
     std::int64_t counted = -1, rejected = -1;

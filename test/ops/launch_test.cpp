@@ -16,6 +16,7 @@
 #include <thread>
 
 #include "core/config.hpp"
+#include "core/lcm_url.hpp"
 #include "launch/launch_file.hpp"
 #include "launch/supervisor.hpp"
 
@@ -90,9 +91,10 @@ TEST(LaunchFile, BadFilesAreRefusedWithLineAndKey) {
   EXPECT_NE(error_of("name: x\nroot: .\nprocesses: []\n")
                 .find("bad.yaml:3: processes: expected a non-empty"),
             std::string::npos);
-  EXPECT_NE(error_of("name: x\nroot: .\nlcm_url: udpm://239.255.76.67:7667?ttl=1\nprocesses:\n  - "
+  EXPECT_NE(error_of("name: x\nroot: .\nlcm_url: udpm://239.255.76.67:7667?ttl=2\nprocesses:\n  - "
                      "{name: a, command: b}\n")
-                .find("bad.yaml:3: lcm_url: expected a udpm:// URL with ttl=0"),
+                .find("bad.yaml:3: lcm_url: expected a udpm:// URL with ttl=0 (this computer only) "
+                      "or ttl=1 (topside and vehicle computers on one link), got ttl=2"),
             std::string::npos);
   EXPECT_NE(error_of("name: x\nroot: .\nends_with: zz\nprocesses:\n  - {name: a, command: b}\n")
                 .find("bad.yaml:3: ends_with"),
@@ -100,6 +102,55 @@ TEST(LaunchFile, BadFilesAreRefusedWithLineAndKey) {
   EXPECT_NE(error_of("name: x\nroot: .\nprocesses:\n  - {name: a, command: b, backoff_s: -1}\n")
                 .find("bad.yaml:4: processes[0].backoff_s"),
             std::string::npos);
+}
+
+// One TTL rule (core/lcm_url.hpp) for a launch file's lcm_url and every program's --lcm-url:
+// ttl=0 and ttl=1 (two computers on one link) are taken, ttl=2 and a non-number are refused by
+// both with the same words.
+TEST(LaunchFile, TtlOneIsTakenAndTtlTwoRefusedByTheFileAndByLcmUrlAlike) {
+  EXPECT_EQ(lcm_url_problem("udpm://239.255.76.67:7667?ttl=0"), "");
+  EXPECT_EQ(lcm_url_problem("udpm://239.255.76.67:7667?ttl=1"), "");
+  EXPECT_EQ(lcm_url_problem("udpm://239.255.76.67:7667"), "");
+  EXPECT_EQ(lcm_url_problem("udpm://239.255.76.67:7667?recv_buf_size=2097152&ttl=1"), "");
+  EXPECT_EQ(lcm_url_problem("memq://"), "");
+  EXPECT_EQ(lcm_url_ttl("udpm://239.255.76.67:7667?ttl=1"), 1);
+  EXPECT_EQ(lcm_url_ttl("udpm://239.255.76.67:7667?ttl=10"), 10);
+  EXPECT_EQ(lcm_url_ttl("udpm://239.255.76.67:7667?ttl=x"), -1);
+  const std::string expected =
+      "a udpm:// URL with ttl=0 (this computer only) or ttl=1 (topside and vehicle computers on "
+      "one link), got ttl=";
+  EXPECT_EQ(lcm_url_problem("udpm://239.255.76.67:7667?ttl=2"), expected + "2");
+  EXPECT_EQ(lcm_url_problem("udpm://239.255.76.67:7667?ttl=10"), expected + "10");
+  EXPECT_EQ(lcm_url_problem("udpm://239.255.76.67:7667?ttl=01x"), expected + "01x");
+
+  const fs::path dir = fs::temp_directory_path() / ("tiller-ttl-" + std::to_string(::getpid()));
+  fs::create_directories(dir);
+  const std::string out = (dir / "out.txt").string();
+  auto launch = [&](const std::string& url_in_file, const std::string& option) {
+    std::ofstream(dir / "l.yaml") << "name: l\nroot: .\nlcm_url: " << url_in_file
+                                  << "\nprocesses:\n  - {name: a, command: sh}\n";
+    const std::string cmd = std::string(TILLER_BIN_DIR) + "/tiller-launch --check " +
+                            (dir / "l.yaml").string() + " " + option + " > " + out + " 2>&1";
+    const int rc = std::system(cmd.c_str());
+    std::stringstream ss;
+    ss << std::ifstream(out).rdbuf();
+    return std::make_pair(WIFEXITED(rc) ? WEXITSTATUS(rc) : -1, ss.str());
+  };
+  const std::string one = "udpm://239.255.76.67:7667?ttl=1",
+                    two = "udpm://239.255.76.67:7667?ttl=2";
+  auto [rc1, o1] = launch(one, "");
+  EXPECT_EQ(rc1, 0) << o1;
+  EXPECT_NE(o1.find("ttl=1"), std::string::npos) << o1;
+  auto [rc2, o2] = launch("udpm://239.255.76.67:7667?ttl=0", "--lcm-url '" + one + "'");
+  EXPECT_EQ(rc2, 0) << o2;
+  EXPECT_NE(o2.find("ttl=1"), std::string::npos) << o2;
+  auto [rc3, o3] = launch(two, "");
+  EXPECT_EQ(rc3, 2) << o3;
+  EXPECT_NE(o3.find("lcm_url: expected " + expected + "2"), std::string::npos) << o3;
+  auto [rc4, o4] = launch("udpm://239.255.76.67:7667?ttl=0", "--lcm-url '" + two + "'");
+  EXPECT_EQ(rc4, 2) << o4;
+  EXPECT_NE(o4.find("--lcm-url: expected " + expected + "2"), std::string::npos) << o4;
+  fs::remove_all(dir);
 }
 
 TEST(LaunchFile, Substitution) {

@@ -1,8 +1,9 @@
 #!/bin/sh
 # The real ROV launch files, started as on the vehicle but without hardware: ESC_CONFIG points
 # tiller-esc at the dry-run configs (they print the bus bytes instead of writing them) and
-# JOYSTICK at a FIFO (no stick: teleop waits, neutral). In the test's network namespace
-# (tools/netns-run). Checks that every process comes up (logger, esc, mixer, teleop running),
+# JOYSTICK at a FIFO (unused: the pilot's teleop runs on the topside computer,
+# topside_<vehicle>_rov.yaml). In the test's network namespace (tools/netns-run). Checks that
+# every process comes up (logger, esc, mixer running; no teleop on the vehicle computer),
 # the dry run prints the neutral writes (seed 000: throttle 0 to each BlueESC; seed 001: 1500 us,
 # 0x0133 counts, on each PCA9685 channel), the log rotates under its fixed name with a replay
 # manifest, and SIGTERM stops everything (exit 0, no process of the run left). The vehicle key
@@ -28,7 +29,7 @@ wait_for() {
 }
 all_running() {
   "$bin/tiller-launch" status "$1" --status-file "$2" > "$2.now" 2>/dev/null || return 1
-  for p in logger esc mixer teleop; do
+  for p in logger esc mixer; do
     grep -Eq "^$p +[a-z]+ +running" "$2.now" || return 1
   done
 }
@@ -42,6 +43,9 @@ for vehicle in seed000 seed001; do
   file=config/launch/real_${vehicle}_rov.yaml
   name=$(sed -n 's/^name: //p' "$file")
   dir="$tmp/$vehicle"; mkdir -p "$dir"
+  if grep -q "command: tiller-teleop" "$file"; then
+    echo "FAIL: $file runs tiller-teleop on the vehicle computer (it belongs topside)"; fail=1
+  fi
   mkfifo "$dir/js"
   exec 3<>"$dir/js"          # keep the FIFO open: teleop sees a joystick that sends nothing
   ESC_CONFIG=config/esc/${vehicle}_dry_run.yaml JOYSTICK="$dir/js" \

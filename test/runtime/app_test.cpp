@@ -87,21 +87,49 @@ TEST(App, UnusedStandardOptionsAreRefused) {
   EXPECT_EQ(run(no_config, {"--lcm-url", "memq://"}).lcm_url, "memq://");
 }
 
-TEST(App, HelpSaysWhichStandardOptionsAreNotTaken) {
-  const Spec spec{"tiller-plot", "draws", "", {}, false, false};
-  // --help prints to stdout; the death test reads stderr, so send one to the other.
-  EXPECT_EXIT(
-      {
-        dup2(2, 1);
-        run(spec, {"--help"});
-      },
-      ::testing::ExitedWithCode(0), "--config FILE +not taken: tiller-plot has no config file");
-  EXPECT_EXIT(
-      {
-        dup2(2, 1);
-        run(spec, {"--help"});
-      },
-      ::testing::ExitedWithCode(0), "--lcm-url URL +not taken: tiller-plot opens no LCM");
+// --help (on stdout; the death test reads stderr, so one is sent to the other): one usage line
+// with the positional arguments, only the options taken, each default once.
+TEST(App, HelpListsOnlyTheOptionsTakenWithEachDefaultOnce) {
+  Spec spec{"tiller-plot", "draws", "", {{"output", "FILE", "PNG to write", "a.png"}},
+            false,         false};
+  spec.arguments = "LOG";
+  spec.max_positional = 1;
+  auto help = [&](const char* regex) {
+    EXPECT_EXIT(
+        {
+          dup2(2, 1);
+          run(spec, {"--help"});
+        },
+        ::testing::ExitedWithCode(0), regex);
+  };
+  help(
+      "^Usage: tiller-plot \\[options\\] LOG\ndraws\n\nOptions:\n  --help +show this help and "
+      "exit\n  --output FILE +PNG to write \\(default: a.png\\)\n$");
+  spec.takes_config = true;
+  spec.default_config = "plot.yaml";
+  help("  --config FILE +YAML config \\(default: plot.yaml\\)\n  --output");
+}
+
+// A positional argument a program does not take is refused (exit 2), naming it.
+TEST(App, UnexpectedPositionalArgumentsAreRefusedNamingThem) {
+  const Spec none{"tiller-mixer", "mixes", "", {{"describe", "", "describe", ""}}, true, true};
+  EXPECT_EXIT(run(none, {"config/mixer/seed000_rov4.yaml", "--describe"}),
+              ::testing::ExitedWithCode(2),
+              "tiller-mixer: unexpected argument 'config/mixer/seed000_rov4.yaml' \\(tiller-mixer "
+              "takes no positional arguments\\)");
+  Spec one = none;
+  one.arguments = "LOG";
+  one.max_positional = 1;
+  EXPECT_EQ(run(one, {"a.lcmlog"}).positional, std::vector<std::string>{"a.lcmlog"});
+  EXPECT_EXIT(run(one, {"a.lcmlog", "b.lcmlog"}), ::testing::ExitedWithCode(2),
+              "unexpected argument 'b.lcmlog' \\(tiller-mixer takes LOG\\)");
+  Spec cmds = none;
+  cmds.commands = {{"summary", 1}, {"wait", 3}};
+  EXPECT_EQ(run(cmds, {"wait", "C", "F", "V"}).positional.size(), 4u);
+  EXPECT_EXIT(run(cmds, {"summary", "a", "b"}), ::testing::ExitedWithCode(2),
+              "unexpected argument 'b'");
+  EXPECT_EXIT(run(cmds, {"sumary", "a"}), ::testing::ExitedWithCode(2),
+              "unexpected argument 'sumary' \\(commands: summary, wait\\)");
 }
 
 // Numeric options: the whole string, finite, within range; the error names the option, what was

@@ -20,17 +20,24 @@
 #include <tiller/esc_bus_status_t.hpp>
 #include <tiller/esc_output_t.hpp>
 #include <tiller/esc_telemetry_t.hpp>
+#include <tiller/gnss_fix_t.hpp>
+#include <tiller/heading_t.hpp>
 #include <tiller/heartbeat_t.hpp>
+#include <tiller/imu_t.hpp>
 #include <tiller/joystick_state_t.hpp>
+#include <tiller/leak_t.hpp>
 #include <tiller/manual_demand_t.hpp>
 #include <tiller/manual_velocity_cmd_t.hpp>
 #include <tiller/odometry_t.hpp>
 #include <tiller/path_progress_t.hpp>
 #include <tiller/path_t.hpp>
 #include <tiller/pid_terms_t.hpp>
+#include <tiller/power_t.hpp>
+#include <tiller/pressure_t.hpp>
 #include <tiller/sim_state_t.hpp>
 #include <tiller/station_target_t.hpp>
 #include <tiller/thruster_command_t.hpp>
+#include <tiller/vehicle_status_t.hpp>
 #include <tiller/velocity_setpoint_t.hpp>
 #include <tiller/waypoint_t.hpp>
 #include <tiller/wrench_t.hpp>
@@ -178,6 +185,22 @@ std::map<std::string, std::function<void()>> checks() {
   c["velocity_setpoint_t"] = [] { check<velocity_setpoint_t>([](auto& m) { m.active = true; }); };
   c["waypoint_t"] = [] { check<waypoint_t>([](auto& m) { m.heading = 1.0; }); };
   c["wrench_t"] = [] { check<wrench_t>([](auto& m) { m.tau[5] = 2.0; }); };
+  // Sensors.
+  c["gnss_fix_t"] = [] { check<gnss_fix_t>([](auto& m) { m.device = "/dev/ttyACM0"; }); };
+  c["imu_t"] = [] { check<imu_t>([](auto& m) { m.orientation[0] = 1.0; }); };
+  c["heading_t"] = [] { check<heading_t>([](auto& m) { m.device = "sim"; }); };
+  c["pressure_t"] = [] { check<pressure_t>([](auto& m) { m.sensor = "ms5837-30ba"; }); };
+  c["power_t"] = [] { check<power_t>([](auto& m) { m.monitor = "ina226"; }); };
+  c["leak_t"] = [] {
+    check<leak_t>([](auto& m) {
+      m.n_probes = 3;
+      m.names = kNames;
+      m.wet = {false, true, false};
+      m.readable = {true, true, true};
+      m.any_wet = true;
+    });
+  };
+  c["vehicle_status_t"] = [] { check<vehicle_status_t>([](auto& m) { m.reason = "leak"; }); };
   return c;
 }
 

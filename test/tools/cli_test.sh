@@ -1,8 +1,8 @@
 #!/bin/sh
-# Every tiller-<name> program takes --help (exit 0, mentions --config and --lcm-url). The
-# processes of the stack refuse a missing config file with exit status 2 and a message that
-# names the file, and never crash; so do a missing, malformed or group/world-readable signing
-# key file (--key-file), and --require-signed without a key. Args: BUILD_DIR
+# Every tiller-<name> program takes --help (exit 0; its shape is help_test.sh's). The processes
+# of the stack refuse a missing config file with exit status 2 and a message that names the
+# file, and never crash; so do a missing, malformed or group/world-readable signing key file
+# (--key-file), and --require-signed without a key. Args: BUILD_DIR
 set -u
 bin="$1/bin"
 fail=0
@@ -22,8 +22,6 @@ for p in "$bin"/tiller-*; do
   name=$(basename "$p")
   out=$(timeout 10 "$p" --help 2>&1); rc=$?
   if [ $rc -ne 0 ]; then echo "FAIL: $name --help exited $rc"; fail=1; continue; fi
-  echo "$out" | grep -q -- "--config" || { echo "FAIL: $name --help does not mention --config"; fail=1; }
-  echo "$out" | grep -q -- "--lcm-url" || { echo "FAIL: $name --help does not mention --lcm-url"; fail=1; }
   case "$name" in
     tiller-teleop|tiller-path-follower|tiller-velocity-pid|tiller-station-keep|tiller-mixer|tiller-esc|tiller-sim|tiller-launch)
       out=$(timeout 10 "$p" --config /nonexistent/tiller-cli-test.yaml 2>&1 </dev/null); rc=$?

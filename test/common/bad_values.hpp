@@ -1,0 +1,581 @@
+// The one place for per-type test inputs: for every message type a node subscribes to, a good
+// message (good<Msg>(channel, t, ctx): one that every node accepts on that channel at time t)
+// and the ways to break its contract (bad_values<Msg>(): each mutation takes a good message
+// outside what its .lcm file allows, either a non-finite number or a value out of range).
+// input_checks_test sends every bad value to every (node, channel) pair the nodes declare;
+// the controller tests use the same lists. A type whose contract has no value of one kind
+// (no floating-point field: nothing non-finite; booleans and text only: nothing out of range)
+// says so in missing_kinds<Msg>() with the reason, tied to the type's LCM hash so that a field
+// added later fails the test until it has bad values.
+#pragma once
+
+#include <cmath>
+#include <cstdint>
+#include <functional>
+#include <string>
+#include <vector>
+
+#include <tiller/allocation_status_t.hpp>
+#include <tiller/arbitration_t.hpp>
+#include <tiller/arm_request_t.hpp>
+#include <tiller/arm_state_t.hpp>
+#include <tiller/controller_mode_t.hpp>
+#include <tiller/esc_output_t.hpp>
+#include <tiller/joystick_state_t.hpp>
+#include <tiller/manual_demand_t.hpp>
+#include <tiller/manual_velocity_cmd_t.hpp>
+#include <tiller/odometry_t.hpp>
+#include <tiller/path_progress_t.hpp>
+#include <tiller/path_t.hpp>
+#include <tiller/station_target_t.hpp>
+#include <tiller/thruster_command_t.hpp>
+#include <tiller/velocity_setpoint_t.hpp>
+#include <tiller/wrench_t.hpp>
+
+#include "core/time.hpp"
+#include "runtime/channels.hpp"
+#include "runtime/event.hpp"
+
+namespace tiller::test {
+
+enum class BadKind { kNonFinite, kRange };
+
+inline const char* kind_name(BadKind k) {
+  return k == BadKind::kNonFinite ? "non-finite" : "out of range";
+}
+
+template <class Msg>
+struct BadValue {
+  const char* what;
+  BadKind kind;
+  void (*apply)(Msg&);
+};
+
+// A kind of bad value the type's contract cannot express, and why.
+struct MissingKind {
+  BadKind kind;
+  const char* why;
+};
+
+// What a node expects beyond the contract (from its config): the thruster names, in order.
+struct InputContext {
+  std::vector<std::string> thrusters;
+};
+
+constexpr double kTestPi = 3.14159265358979323846;
+constexpr double kHuge = 1e300;
+
+// ---- good messages. Plausible, inside every range, slowly changing with t; one scenario
+// across all channels: waypointing with station keeping in force, armed, a path in progress.
+template <class Msg>
+Msg good(const std::string& channel, TimeUs t, const InputContext& ctx);
+
+template <>
+inline odometry_t good(const std::string&, TimeUs t, const InputContext&) {
+  odometry_t m{};
+  m.utime = t;
+  m.position[0] = 0.5 * to_seconds(t);
+  m.position[1] = 0.1;
+  m.orientation[2] = 0.5;
+  m.velocity[0] = 0.5;
+  m.velocity[5] = 0.02;
+  return m;
+}
+
+template <>
+inline velocity_setpoint_t good(const std::string&, TimeUs t, const InputContext&) {
+  velocity_setpoint_t m{};
+  m.utime = t;
+  m.frame = velocity_setpoint_t::FRAME_NED;
+  m.velocity[0] = 1.0;
+  m.velocity[1] = 0.2;
+  m.heading_valid = true;
+  m.target_heading = 0.5;
+  m.active = true;
+  return m;
+}
+
+template <>
+inline station_target_t good(const std::string&, TimeUs t, const InputContext&) {
+  station_target_t m{};
+  m.utime = t;
+  m.active = true;
+  m.position[0] = 2.0;
+  m.position[1] = 1.0;
+  m.heading_valid = true;
+  m.heading = 0.4;
+  return m;
+}
+
+template <>
+inline wrench_t good(const std::string& channel, TimeUs t, const InputContext&) {
+  wrench_t m{};
+  m.utime = t;
+  m.source = channel == channels::kWrenchStation ? wrench_t::SOURCE_STATION_KEEP
+                                                 : wrench_t::SOURCE_VELOCITY_PID;
+  m.valid = true;
+  m.tau[0] = 30.0;
+  m.tau[1] = 5.0;
+  m.tau[5] = 3.0;
+  return m;
+}
+
+template <>
+inline allocation_status_t good(const std::string&, TimeUs t, const InputContext& ctx) {
+  allocation_status_t m{};
+  m.utime = t;
+  m.source = wrench_t::SOURCE_STATION_KEEP;
+  m.strategy = "direction_preserving";
+  m.scale = 1.0;
+  m.n_thrusters = static_cast<std::int32_t>(ctx.thrusters.size());
+  m.names = ctx.thrusters;
+  m.saturated.assign(ctx.thrusters.size(), false);
+  return m;
+}
+
+template <>
+inline arbitration_t good(const std::string&, TimeUs t, const InputContext&) {
+  arbitration_t m{};
+  m.utime = t;
+  m.mode = controller_mode_t::WAYPOINTING;
+  m.active_source = wrench_t::SOURCE_STATION_KEEP;
+  m.reason = "test";
+  return m;
+}
+
+template <>
+inline manual_demand_t good(const std::string&, TimeUs t, const InputContext&) {
+  manual_demand_t m{};
+  m.utime = t;
+  m.demand[0] = 0.2;
+  m.demand[1] = 0.1;
+  m.demand[5] = 0.1;
+  m.valid = true;
+  return m;
+}
+
+template <>
+inline manual_velocity_cmd_t good(const std::string&, TimeUs t, const InputContext&) {
+  manual_velocity_cmd_t m{};
+  m.utime = t;
+  m.velocity[0] = 0.5;
+  m.yaw_mode = manual_velocity_cmd_t::YAW_HEADING;
+  m.heading = 0.3;
+  m.valid = true;
+  return m;
+}
+
+template <>
+inline controller_mode_t good(const std::string&, TimeUs t, const InputContext&) {
+  controller_mode_t m{};
+  m.utime = t;
+  m.mode = controller_mode_t::WAYPOINTING;
+  m.source = "test";
+  return m;
+}
+
+template <>
+inline arm_request_t good(const std::string&, TimeUs t, const InputContext&) {
+  arm_request_t m{};
+  m.utime = t;
+  m.arm = true;
+  m.source = "test";
+  return m;
+}
+
+template <>
+inline arm_state_t good(const std::string&, TimeUs t, const InputContext&) {
+  arm_state_t m{};
+  m.utime = t;
+  m.armed = true;
+  m.reason = "test";
+  return m;
+}
+
+template <>
+inline path_t good(const std::string&, TimeUs t, const InputContext&) {
+  path_t m{};
+  m.utime = t;
+  m.path_id = 7;
+  m.n_waypoints = 2;
+  m.waypoints.resize(2);
+  m.waypoints[1].position[0] = 20.0;
+  m.waypoints[1].position[1] = 10.0;
+  m.waypoints[1].has_heading = true;
+  m.waypoints[1].heading = 1.0;
+  return m;
+}
+
+template <>
+inline path_progress_t good(const std::string&, TimeUs t, const InputContext&) {
+  path_progress_t m{};
+  m.utime = t;
+  m.path_id = 7;
+  m.segment = 0;
+  m.n_waypoints = 2;
+  m.distance_to_goal = 10.0;
+  m.along_track_error = 10.0;
+  return m;
+}
+
+// Neutral for the first 0.2 s (so an ESC arms), then 0.3 on every thruster.
+template <>
+inline thruster_command_t good(const std::string&, TimeUs t, const InputContext& ctx) {
+  thruster_command_t m{};
+  m.utime = t;
+  m.armed = true;
+  m.source = wrench_t::SOURCE_STATION_KEEP;
+  m.n_thrusters = static_cast<std::int32_t>(ctx.thrusters.size());
+  m.names = ctx.thrusters;
+  m.command.assign(ctx.thrusters.size(), t < 200'000 ? 0.0 : 0.3);
+  return m;
+}
+
+template <>
+inline esc_output_t good(const std::string&, TimeUs t, const InputContext& ctx) {
+  esc_output_t m{};
+  m.utime = t;
+  m.backend = "sim";
+  m.armed = true;
+  m.unit = esc_output_t::UNIT_PULSE_US;
+  const auto n = ctx.thrusters.size();
+  m.n_channels = static_cast<std::int32_t>(n);
+  m.names = ctx.thrusters;
+  m.channel.resize(n);
+  for (std::size_t i = 0; i < n; ++i) m.channel[i] = static_cast<std::int32_t>(i);
+  m.value.assign(n, 1600);
+  m.normalized.assign(n, 0.25);
+  return m;
+}
+
+// Centred for the first 0.25 s (so the teleop sees the stick centred), then deflected.
+template <>
+inline joystick_state_t good(const std::string&, TimeUs t, const InputContext&) {
+  joystick_state_t m{};
+  m.utime = t;
+  m.device = "test";
+  m.connected = true;
+  m.n_axes = 8;
+  m.axes.assign(8, static_cast<std::int16_t>(t < 250'000 ? 0 : 6000));
+  m.n_buttons = 12;
+  m.buttons.assign(12, false);
+  return m;
+}
+
+// ---- bad values: each takes good<Msg>() outside its contract.
+template <class Msg>
+std::vector<BadValue<Msg>> bad_values();
+template <class Msg>
+std::vector<MissingKind> missing_kinds() {
+  return {};
+}
+// The LCM hash (getHash()) of the type when its missing_kinds() were written: a changed type
+// (a field added) no longer matches and input_checks_test asks for its bad values.
+template <class Msg>
+std::int64_t missing_kinds_hash() {
+  return 0;
+}
+
+constexpr BadKind kNF = BadKind::kNonFinite;
+constexpr BadKind kOR = BadKind::kRange;
+
+template <>
+inline std::vector<BadValue<odometry_t>> bad_values() {
+  return {
+      {"position NaN", kNF, [](odometry_t& m) { m.position[0] = NAN; }},
+      {"velocity inf", kNF, [](odometry_t& m) { m.velocity[5] = INFINITY; }},
+      {"yaw NaN", kNF, [](odometry_t& m) { m.orientation[2] = NAN; }},
+      {"yaw 4 rad", kOR, [](odometry_t& m) { m.orientation[2] = 4.0; }},
+      {"yaw -pi", kOR, [](odometry_t& m) { m.orientation[2] = -kTestPi; }},
+      {"pitch 1.6 rad", kOR, [](odometry_t& m) { m.orientation[1] = 1.6; }},
+      {"pose covariance of 9", kOR,
+       [](odometry_t& m) {
+         m.n_pose_cov = 9;
+         m.pose_covariance.assign(9, 0.01);
+       }},
+      {"velocity covariance NaN", kNF,
+       [](odometry_t& m) {
+         m.n_velocity_cov = 36;
+         m.velocity_covariance.assign(36, 0.0);
+         m.velocity_covariance[7] = NAN;
+       }},
+  };
+}
+
+template <>
+inline std::vector<BadValue<velocity_setpoint_t>> bad_values() {
+  return {
+      {"heading 4 rad", kOR, [](velocity_setpoint_t& m) { m.target_heading = 4.0; }},
+      {"heading -pi", kOR, [](velocity_setpoint_t& m) { m.target_heading = -kTestPi; }},
+      {"velocity 11 m/s", kOR, [](velocity_setpoint_t& m) { m.velocity[0] = 11.0; }},
+      {"unknown frame", kOR, [](velocity_setpoint_t& m) { m.frame = 9; }},
+      {"velocity NaN", kNF, [](velocity_setpoint_t& m) { m.velocity[1] = NAN; }},
+      {"heading NaN", kNF, [](velocity_setpoint_t& m) { m.target_heading = NAN; }},
+  };
+}
+
+template <>
+inline std::vector<BadValue<station_target_t>> bad_values() {
+  return {
+      {"heading 4 rad", kOR, [](station_target_t& m) { m.heading = 4.0; }},
+      {"heading -pi", kOR, [](station_target_t& m) { m.heading = -kTestPi; }},
+      {"position 2e6 m", kOR, [](station_target_t& m) { m.position[0] = 2e6; }},
+      {"position NaN", kNF, [](station_target_t& m) { m.position[1] = NAN; }},
+      {"heading NaN (not valid)", kNF,
+       [](station_target_t& m) {
+         m.heading_valid = false;
+         m.heading = NAN;
+       }},
+  };
+}
+
+template <>
+inline std::vector<BadValue<wrench_t>> bad_values() {
+  return {
+      {"tau 1e300", kOR, [](wrench_t& m) { m.tau[0] = kHuge; }},
+      {"tau -2e5", kOR, [](wrench_t& m) { m.tau[5] = -2e5; }},
+      {"unknown source", kOR, [](wrench_t& m) { m.source = 42; }},
+      {"tau NaN", kNF, [](wrench_t& m) { m.tau[1] = NAN; }},
+      {"tau inf", kNF, [](wrench_t& m) { m.tau[5] = INFINITY; }},
+  };
+}
+
+// Each also claims the axes reduced, so that, accepted, it would change a controller's output.
+template <>
+inline std::vector<BadValue<allocation_status_t>> bad_values() {
+  return {
+      {"scale 1.5", kOR,
+       [](allocation_status_t& m) {
+         m.axis_reduced[0] = m.axis_reduced[1] = m.axis_reduced[5] = true;
+         m.scale = 1.5;
+       }},
+      {"unknown source", kOR,
+       [](allocation_status_t& m) {
+         m.axis_reduced[0] = m.axis_reduced[1] = m.axis_reduced[5] = true;
+         m.source = 42;
+       }},
+      {"achieved NaN", kNF,
+       [](allocation_status_t& m) {
+         m.axis_reduced[0] = m.axis_reduced[1] = m.axis_reduced[5] = true;
+         m.achieved[0] = NAN;
+       }},
+  };
+}
+
+template <>
+inline std::vector<BadValue<arbitration_t>> bad_values() {
+  return {
+      {"unknown mode", kOR, [](arbitration_t& m) { m.mode = 9; }},
+      {"unknown source", kOR, [](arbitration_t& m) { m.active_source = 42; }},
+  };
+}
+template <>
+inline std::vector<MissingKind> missing_kinds<arbitration_t>() {
+  return {{kNF, "integers, a boolean and text only"}};
+}
+template <>
+inline std::int64_t missing_kinds_hash<arbitration_t>() {
+  return static_cast<std::int64_t>(0xc31ebe1501fb5fd6ULL);
+}
+
+template <>
+inline std::vector<BadValue<manual_demand_t>> bad_values() {
+  return {
+      {"demand 1.5", kOR, [](manual_demand_t& m) { m.demand[0] = 1.5; }},
+      {"demand -1e300", kOR, [](manual_demand_t& m) { m.demand[5] = -kHuge; }},
+      {"demand NaN", kNF, [](manual_demand_t& m) { m.demand[1] = NAN; }},
+  };
+}
+
+template <>
+inline std::vector<BadValue<manual_velocity_cmd_t>> bad_values() {
+  return {
+      {"heading 4 rad", kOR, [](manual_velocity_cmd_t& m) { m.heading = 4.0; }},
+      {"yaw rate 1e300", kOR, [](manual_velocity_cmd_t& m) { m.yaw_rate = kHuge; }},
+      {"velocity 11 m/s", kOR, [](manual_velocity_cmd_t& m) { m.velocity[0] = 11.0; }},
+      {"unknown yaw mode", kOR, [](manual_velocity_cmd_t& m) { m.yaw_mode = 5; }},
+      {"velocity NaN", kNF, [](manual_velocity_cmd_t& m) { m.velocity[0] = NAN; }},
+      {"yaw torque inf", kNF, [](manual_velocity_cmd_t& m) { m.yaw_torque = INFINITY; }},
+  };
+}
+
+template <>
+inline std::vector<BadValue<controller_mode_t>> bad_values() {
+  return {
+      {"unknown mode", kOR,
+       [](controller_mode_t& m) {
+         m.mode = 7;
+         m.is_translation = true;
+       }},
+  };
+}
+template <>
+inline std::vector<MissingKind> missing_kinds<controller_mode_t>() {
+  return {{kNF, "integers, a boolean and text only"}};
+}
+template <>
+inline std::int64_t missing_kinds_hash<controller_mode_t>() {
+  return static_cast<std::int64_t>(0x6506a2a75906ca38ULL);
+}
+
+template <>
+inline std::vector<BadValue<arm_request_t>> bad_values() {
+  return {};
+}
+template <>
+inline std::vector<MissingKind> missing_kinds<arm_request_t>() {
+  return {{kNF, "a time, a boolean and text only"},
+          {kOR, "a time, a boolean and text only: every decoded value is allowed"}};
+}
+template <>
+inline std::int64_t missing_kinds_hash<arm_request_t>() {
+  return static_cast<std::int64_t>(0x5be75ca084a595b5ULL);
+}
+
+template <>
+inline std::vector<BadValue<arm_state_t>> bad_values() {
+  return {};
+}
+template <>
+inline std::vector<MissingKind> missing_kinds<arm_state_t>() {
+  return {{kNF, "a time, a boolean and text only"},
+          {kOR, "a time, a boolean and text only: every decoded value is allowed"}};
+}
+template <>
+inline std::int64_t missing_kinds_hash<arm_state_t>() {
+  return static_cast<std::int64_t>(0xbccd64914288b90eULL);
+}
+
+template <>
+inline std::vector<BadValue<path_t>> bad_values() {
+  return {
+      {"waypoint heading 4 rad", kOR,
+       [](path_t& m) {
+         m.waypoints[1].has_heading = true;
+         m.waypoints[1].heading = 4.0;
+       }},
+      {"waypoint heading 1e300", kOR,
+       [](path_t& m) {
+         m.waypoints[1].has_heading = true;
+         m.waypoints[1].heading = kHuge;
+       }},
+      {"waypoint heading -pi", kOR,
+       [](path_t& m) {
+         m.waypoints[1].has_heading = true;
+         m.waypoints[1].heading = -kTestPi;
+       }},
+      {"waypoint position 2e6 m", kOR, [](path_t& m) { m.waypoints[0].position[1] = 2e6; }},
+      {"waypoint heading NaN", kNF,
+       [](path_t& m) {
+         m.waypoints[1].has_heading = true;
+         m.waypoints[1].heading = NAN;
+       }},
+      {"waypoint position NaN", kNF, [](path_t& m) { m.waypoints[1].position[0] = NAN; }},
+  };
+}
+
+template <>
+inline std::vector<BadValue<path_progress_t>> bad_values() {
+  return {
+      {"segment -2", kOR, [](path_progress_t& m) { m.segment = -2; }},
+      {"distance to goal -1 m", kOR, [](path_progress_t& m) { m.distance_to_goal = -1.0; }},
+      {"distance to goal NaN", kNF,
+       [](path_progress_t& m) {
+         m.complete = true;
+         m.distance_to_goal = NAN;
+       }},
+      {"cross-track inf", kNF, [](path_progress_t& m) { m.cross_track_error = INFINITY; }},
+  };
+}
+
+template <>
+inline std::vector<BadValue<thruster_command_t>> bad_values() {
+  return {
+      {"command 1.5", kOR, [](thruster_command_t& m) { m.command.back() = 1.5; }},
+      {"command -1e300", kOR, [](thruster_command_t& m) { m.command.front() = -kHuge; }},
+      {"unknown source", kOR, [](thruster_command_t& m) { m.source = 42; }},
+      {"command NaN", kNF, [](thruster_command_t& m) { m.command.front() = NAN; }},
+  };
+}
+
+template <>
+inline std::vector<BadValue<esc_output_t>> bad_values() {
+  return {
+      {"pulse 3000 us", kOR, [](esc_output_t& m) { m.value.front() = 3000; }},
+      {"normalized 1.5", kOR, [](esc_output_t& m) { m.normalized.back() = 1.5; }},
+      {"unknown unit", kOR, [](esc_output_t& m) { m.unit = 7; }},
+      {"normalized NaN", kNF, [](esc_output_t& m) { m.normalized.front() = NAN; }},
+  };
+}
+
+template <>
+inline std::vector<BadValue<joystick_state_t>> bad_values() {
+  return {
+      {"axis -32768", kOR, [](joystick_state_t& m) { m.axes[1] = -32768; }},
+      {"65 axes", kOR,
+       [](joystick_state_t& m) {
+         m.n_axes = 65;
+         m.axes.assign(65, 0);
+       }},
+  };
+}
+template <>
+inline std::vector<MissingKind> missing_kinds<joystick_state_t>() {
+  return {{kNF, "integers, booleans and text only"}};
+}
+template <>
+inline std::int64_t missing_kinds_hash<joystick_state_t>() {
+  return static_cast<std::int64_t>(0x46c951e50f60f29cULL);
+}
+
+// ---- the same, by LCM type name, as encoded events (for tests that only know a channel's type).
+using MakeEvent = std::function<Event(const std::string& channel, TimeUs t, const InputContext&)>;
+struct TypeInputs {
+  std::string type;  // LCM type name, as Node::subscribed_type() gives it
+  std::int64_t hash = 0;
+  MakeEvent good;
+  struct Bad {
+    std::string what;
+    BadKind kind;
+    MakeEvent make;
+  };
+  std::vector<Bad> bad;
+  std::vector<MissingKind> missing;
+  std::int64_t missing_hash = 0;
+};
+
+template <class Msg>
+TypeInputs type_inputs() {
+  TypeInputs ti;
+  ti.type = Msg::getTypeName();
+  ti.hash = Msg::getHash();
+  ti.good = [](const std::string& ch, TimeUs t, const InputContext& ctx) {
+    return encode(ch, t, good<Msg>(ch, t, ctx));
+  };
+  for (const auto& b : bad_values<Msg>()) {
+    auto apply = b.apply;
+    ti.bad.push_back(
+        {b.what, b.kind, [apply](const std::string& ch, TimeUs t, const InputContext& ctx) {
+           Msg m = good<Msg>(ch, t, ctx);
+           apply(m);
+           return encode(ch, t, m);
+         }});
+  }
+  ti.missing = missing_kinds<Msg>();
+  ti.missing_hash = missing_kinds_hash<Msg>();
+  return ti;
+}
+
+// Every type with inputs here; a subscribed type missing from this list fails input_checks_test.
+inline std::vector<TypeInputs> all_type_inputs() {
+  return {type_inputs<odometry_t>(),          type_inputs<velocity_setpoint_t>(),
+          type_inputs<station_target_t>(),    type_inputs<wrench_t>(),
+          type_inputs<allocation_status_t>(), type_inputs<arbitration_t>(),
+          type_inputs<manual_demand_t>(),     type_inputs<manual_velocity_cmd_t>(),
+          type_inputs<controller_mode_t>(),   type_inputs<arm_request_t>(),
+          type_inputs<arm_state_t>(),         type_inputs<path_t>(),
+          type_inputs<path_progress_t>(),     type_inputs<thruster_command_t>(),
+          type_inputs<esc_output_t>(),        type_inputs<joystick_state_t>()};
+}
+
+}  // namespace tiller::test

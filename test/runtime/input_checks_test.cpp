@@ -1,0 +1,324 @@
+// Checks everywhere: every (node, channel) pair, taken from the nodes' own declarations
+// (subscribed_channels() and subscribed_type()), refuses every bad value of its type
+// (test/common/bad_values.hpp: out of range and non-finite) with a counted drop, and its outputs
+// stay byte-identical to the run without the bad message.
+//
+// Every node class in lib/ (found by reading the headers for "class X : public Node") must be
+// built here, from every shipped config of its program (config/<program dir>/*.yaml; the
+// simulator once per vehicle file), so a new node, config or subscription is covered without
+// editing this test, or the test fails saying what is not covered.
+//
+// One run: good input (bad_values.hpp good<>()) on every subscribed channel every 50 ms for
+// 1.5 s in lockstep, every published message recorded except the heartbeat (whose counters
+// show the drop). The same run plus one bad message at 0.525 s must give rejected() one more
+// and the same bytes on every output channel; for the mixer, which answers a refused input from
+// the source in control with neutral at once (the last stage before the ESCs), every output
+// that differs must be neutral.
+#include <gtest/gtest.h>
+
+#include <algorithm>
+#include <filesystem>
+#include <fstream>
+#include <functional>
+#include <map>
+#include <memory>
+#include <regex>
+#include <set>
+#include <sstream>
+#include <string>
+#include <vector>
+
+#include "bad_values.hpp"
+#include "control/control_config.hpp"
+#include "control/station_keep_node.hpp"
+#include "control/velocity_pid_node.hpp"
+#include "core/config.hpp"
+#include "esc/esc_node.hpp"
+#include "esc/fake/fake_i2c.hpp"
+#include "guidance/follower_config.hpp"
+#include "guidance/path_follower_node.hpp"
+#include "mission/mission.hpp"
+#include "mission/mission_node.hpp"
+#include "mixer/mixer_node.hpp"
+#include "runtime/channels.hpp"
+#include "runtime/lockstep.hpp"
+#include "sim/sim_node.hpp"
+#include "teleop/teleop_node.hpp"
+#include "teleop/teleop_params.hpp"
+
+namespace tiller {
+namespace {
+
+namespace fs = std::filesystem;
+using test::InputContext;
+using test::TypeInputs;
+
+const std::string kRoot = TILLER_SOURCE_DIR;
+constexpr TimeUs kPeriod = 50'000;
+constexpr TimeUs kBadAt = 525'000;
+constexpr TimeUs kEnd = 1'500'000;
+
+// An output message (channel, encoded bytes) that is safe whatever the input was.
+using SafeOutput =
+    std::function<bool(const std::string& channel, const std::vector<std::uint8_t>&)>;
+
+struct NodeCase {
+  std::string cls;    // C++ class name
+  std::string label;  // program and config, for messages
+  std::function<std::unique_ptr<Node>(InputContext&)> make;
+  // Set for a node that answers a refused input by going neutral at once instead of keeping
+  // the last good one (the mixer: a bad message from the source in control makes that source
+  // absent). Its outputs may then differ from the reference run only by being neutral.
+  SafeOutput neutral = nullptr;
+};
+
+// The mixer's neutral: every thruster command 0, and the allocation of nothing.
+bool mixer_neutral(const std::string& ch, const std::vector<std::uint8_t>& bytes) {
+  const int n = static_cast<int>(bytes.size());
+  if (ch == channels::kThrusterCommand) {
+    thruster_command_t m;
+    if (m.decode(bytes.data(), 0, n) != n) return false;
+    return std::all_of(m.command.begin(), m.command.end(), [](double c) { return c == 0.0; });
+  }
+  if (ch == channels::kAllocationStatus) {
+    allocation_status_t m;
+    if (m.decode(bytes.data(), 0, n) != n) return false;
+    return std::all_of(std::begin(m.achieved), std::end(m.achieved),
+                       [](double a) { return a == 0.0; });
+  }
+  return false;
+}
+
+std::vector<std::string> shipped(const std::string& dir) {
+  std::vector<std::string> out;
+  for (const auto& e : fs::directory_iterator(kRoot + "/config/" + dir))
+    if (e.path().extension() == ".yaml") out.push_back(e.path().string());
+  std::sort(out.begin(), out.end());
+  return out;
+}
+
+std::string rel(const std::string& p) {
+  return fs::relative(p, kRoot).string();
+}
+
+// One fake I2C bus for every hardware ESC config (no /dev/i2c-* here); it outlives the nodes.
+esc::fake::FakeI2cBus& fake_bus() {
+  static esc::fake::FakeI2cBus bus;
+  return bus;
+}
+
+std::vector<NodeCase> node_cases() {
+  std::vector<NodeCase> out;
+  for (const auto& f : shipped("control")) {
+    out.push_back({"VelocityPidNode", "tiller-velocity-pid " + rel(f), [f](InputContext&) {
+                     return std::make_unique<control::VelocityPidNode>(
+                         control::load_velocity_pid_node_params(config::Value::load_file(f)));
+                   }});
+    out.push_back({"StationKeepNode", "tiller-station-keep " + rel(f), [f](InputContext&) {
+                     return std::make_unique<control::StationKeepNode>(
+                         control::load_station_keep_node_params(config::Value::load_file(f)));
+                   }});
+  }
+  for (const auto& f : shipped("guidance")) {
+    out.push_back({"PathFollowerNode", "tiller-path-follower " + rel(f), [f](InputContext&) {
+                     return std::make_unique<guidance::PathFollowerNode>(
+                         guidance::load_follower_node_params(config::Value::load_file(f)));
+                   }});
+  }
+  for (const auto& f : shipped("mixer")) {
+    out.push_back({"MixerNode", "tiller-mixer " + rel(f),
+                   [f](InputContext&) { return std::make_unique<MixerNode>(f); }, mixer_neutral});
+  }
+  for (const auto& f : shipped("esc")) {
+    out.push_back({"EscNode", "tiller-esc " + rel(f), [f](InputContext& ctx) {
+                     auto n = std::make_unique<EscNode>(f, fake_bus());
+                     for (std::size_t i = 0; i < n->backend().size(); ++i)
+                       ctx.thrusters.push_back(n->backend().channel(i).name);
+                     return n;
+                   }});
+  }
+  for (const auto& s : shipped("sim")) {
+    for (const auto& v : shipped("vehicles")) {
+      out.push_back(
+          {"SimNode", "tiller-sim " + rel(s) + " --vehicle " + rel(v), [s, v](InputContext& ctx) {
+             const auto root = config::Value::load_file(s);
+             root.mark_used();
+             auto n = std::make_unique<SimNode>(load_sim_params(root), load_sim_vehicle_file(v));
+             for (const auto& t : n->vehicle().thrusters) ctx.thrusters.push_back(t.name);
+             return n;
+           }});
+    }
+  }
+  for (const auto& f : shipped("teleop")) {
+    for (auto in : {TeleopNode::Input::device, TeleopNode::Input::replay}) {
+      const std::string mode = in == TeleopNode::Input::replay ? " --replay" : "";
+      out.push_back({"TeleopNode", "tiller-teleop " + rel(f) + mode, [f, in](InputContext&) {
+                       return std::make_unique<TeleopNode>(load_teleop_file(f), in);
+                     }});
+    }
+  }
+  for (const auto& f : shipped("missions")) {
+    out.push_back({"MissionNode", "tiller-mission " + rel(f), [f](InputContext&) {
+                     return std::make_unique<mission::MissionNode>(mission::load_mission_file(f), 1,
+                                                                   kUsPerSecond);
+                   }});
+  }
+  return out;
+}
+
+// Every "class X : public Node" in lib/.
+std::map<std::string, std::string> node_classes_in_lib() {
+  static const std::regex re(R"(class\s+(\w+)\s*(?:final\s*)?:\s*public\s+(?:tiller::)?Node\b)");
+  std::map<std::string, std::string> out;
+  for (const auto& e : fs::recursive_directory_iterator(kRoot + "/lib")) {
+    if (e.path().extension() != ".hpp") continue;
+    std::ifstream in(e.path());
+    std::stringstream ss;
+    ss << in.rdbuf();
+    const std::string text = ss.str();
+    for (auto it = std::sregex_iterator(text.begin(), text.end(), re); it != std::sregex_iterator();
+         ++it)
+      out[(*it)[1]] = rel(e.path().string());
+  }
+  return out;
+}
+
+struct Output {
+  std::string channel;
+  TimeUs time;
+  std::vector<std::uint8_t> bytes;
+  bool operator==(const Output&) const = default;
+};
+using Outputs = std::vector<Output>;
+
+struct RunResult {
+  Outputs outputs;
+  std::int64_t rejected = 0;
+  std::int64_t received = 0;
+};
+
+const TypeInputs* inputs_for(const std::vector<TypeInputs>& all, const std::string& type) {
+  for (const auto& t : all)
+    if (t.type == type) return &t;
+  return nullptr;
+}
+
+// Good input on every subscribed channel; `extra` (if any) injected at kBadAt.
+RunResult run(const NodeCase& nc, const std::vector<TypeInputs>& all, const Event* extra) {
+  InputContext ctx;
+  auto node = nc.make(ctx);
+  LockstepExecutor ex(0);
+  ex.add(*node);
+  RunResult r;
+  std::set<std::string> outs;
+  for (const auto& c : node->published_channels())
+    if (c != node->heartbeat_channel()) outs.insert(c);
+  ex.observe([&](const std::string& ch, const std::uint8_t* d, int n, TimeUs t) {
+    if (outs.count(ch)) r.outputs.push_back({ch, t, std::vector<std::uint8_t>(d, d + n)});
+  });
+  for (TimeUs t = 0; t < kEnd; t += kPeriod) {
+    for (const auto& ch : node->subscribed_channels()) {
+      const TypeInputs* ti = inputs_for(all, node->subscribed_type(ch));
+      if (ti) ex.inject(ti->good(ch, t, ctx));
+    }
+  }
+  if (extra) ex.inject(*extra);
+  ex.run_until(kEnd);
+  r.rejected = node->rejected();
+  r.received = node->received();
+  return r;
+}
+
+TEST(InputChecks, EveryNodeClassInLibIsBuiltFromItsShippedConfigs) {
+  std::set<std::string> built;
+  for (const auto& nc : node_cases()) built.insert(nc.cls);
+  const auto classes = node_classes_in_lib();
+  ASSERT_GE(classes.size(), 8u);
+  for (const auto& [cls, where] : classes) {
+    EXPECT_TRUE(built.count(cls)) << cls << " (" << where
+                                  << ") is a Node that input_checks_test does not build: add it "
+                                     "to node_cases() with its shipped configs";
+  }
+}
+
+TEST(InputChecks, EverySubscribedTypeHasBadValuesOfBothKinds) {
+  const auto all = test::all_type_inputs();
+  for (const auto& nc : node_cases()) {
+    InputContext ctx;
+    auto node = nc.make(ctx);
+    for (const auto& ch : node->subscribed_channels()) {
+      const std::string type = node->subscribed_type(ch);
+      const TypeInputs* ti = inputs_for(all, type);
+      ASSERT_NE(ti, nullptr) << nc.label << " subscribes to " << ch << " (" << type
+                             << "): no inputs for this type in test/common/bad_values.hpp";
+      for (auto kind : {test::BadKind::kNonFinite, test::BadKind::kRange}) {
+        const bool have = std::any_of(ti->bad.begin(), ti->bad.end(),
+                                      [kind](const TypeInputs::Bad& b) { return b.kind == kind; });
+        const bool declared_missing =
+            std::any_of(ti->missing.begin(), ti->missing.end(),
+                        [kind](const test::MissingKind& m) { return m.kind == kind; });
+        EXPECT_TRUE(have || declared_missing)
+            << type << " has no " << test::kind_name(kind) << " bad value (bad_values.hpp)";
+        if (declared_missing) {
+          EXPECT_EQ(ti->missing_hash, ti->hash)
+              << type << " changed since bad_values.hpp said it has no " << test::kind_name(kind)
+              << " value: give it bad values (or update missing_kinds_hash to 0x" << std::hex
+              << ti->hash << ")";
+        }
+      }
+    }
+  }
+}
+
+TEST(InputChecks, EveryBadValueOnEverySubscriptionIsDroppedCountedAndChangesNothing) {
+  const auto all = test::all_type_inputs();
+  int pairs = 0, cases = 0;
+  for (const auto& nc : node_cases()) {
+    SCOPED_TRACE(nc.label);
+    const RunResult ref = run(nc, all, nullptr);
+    InputContext ctx;
+    auto probe = nc.make(ctx);
+    const auto subs = probe->subscribed_channels();
+    if (subs.empty()) continue;
+    ASSERT_EQ(ref.rejected, 0) << nc.label << ": the good input itself is refused";
+    ASSERT_GT(ref.received, 0);
+    for (const auto& ch : subs) {
+      const TypeInputs* ti = inputs_for(all, probe->subscribed_type(ch));
+      if (ti == nullptr) continue;  // reported by EverySubscribedTypeHasBadValuesOfBothKinds
+      ++pairs;
+      for (const auto& b : ti->bad) {
+        ++cases;
+        const Event e = b.make(ch, kBadAt, ctx);
+        const RunResult got = run(nc, all, &e);
+        EXPECT_EQ(got.rejected, 1) << nc.label << ": " << ch << " " << b.what << " ("
+                                   << test::kind_name(b.kind) << ") was not refused";
+        if (nc.neutral) {
+          // Every output not in the reference run is neutral.
+          for (const auto& o : got.outputs) {
+            if (std::find(ref.outputs.begin(), ref.outputs.end(), o) != ref.outputs.end()) continue;
+            EXPECT_TRUE(nc.neutral(o.channel, o.bytes))
+                << nc.label << ": " << ch << " " << b.what << ": an output on " << o.channel
+                << " at " << o.time << " us is neither the reference's nor neutral";
+          }
+          continue;
+        }
+        EXPECT_EQ(got.outputs.size(), ref.outputs.size())
+            << nc.label << ": " << ch << " " << b.what << " changed the number of outputs";
+        bool same = got.outputs.size() == ref.outputs.size();
+        for (std::size_t i = 0; same && i < ref.outputs.size(); ++i) {
+          if (!(got.outputs[i] == ref.outputs[i])) {
+            same = false;
+            ADD_FAILURE() << nc.label << ": " << ch << " " << b.what << " changed output " << i
+                          << " on " << ref.outputs[i].channel;
+          }
+        }
+      }
+    }
+  }
+  EXPECT_GT(pairs, 50);
+  EXPECT_GT(cases, 200);
+  std::printf("%d (node config, channel) pairs, %d bad messages\n", pairs, cases);
+}
+
+}  // namespace
+}  // namespace tiller
