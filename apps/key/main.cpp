@@ -15,6 +15,8 @@ int main(int argc, char** argv) {
       "Makes (new FILE) or checks (check FILE) a vehicle's message-signing key file.",
       "",
       {{"force", "", "new: replace an existing key file (every process needs the new one)", ""}}};
+  spec.arguments = "new FILE | check FILE";
+  spec.commands = {{"new", 1}, {"check", 1}};
   spec.takes_config = false;
   spec.takes_lcm_url = false;
   const app::Args args = app::parse(argc, argv, spec);
