@@ -45,8 +45,8 @@ int run(int argc, char** argv) {
         "print the status table every S seconds, 0..86400 (0: only at the end and on SIGUSR1)",
         "0"},
        {"status-file", "FILE",
-        "status table kept up to date here (default: $XDG_RUNTIME_DIR, else /tmp, "
-        "/tiller-launch-<name>.status)",
+        "status table kept up to date here (default: "
+        "$XDG_RUNTIME_DIR/tiller-launch-<name>.status, else in /tmp)",
         ""}}};
   spec.config_help = "the launch file (instead of the LAUNCH_FILE argument)";
   spec.arguments = "LAUNCH_FILE | status LAUNCH_FILE";

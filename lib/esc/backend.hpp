@@ -19,7 +19,7 @@
 namespace tiller::esc {
 
 // Pulse widths of a PWM ESC, us. u > 0: neutral + u (max - neutral); u <= 0: neutral + u
-// (neutral - min) (hardware.md).
+// (neutral - min) (docs/escs-and-wiring.md).
 struct PulseRange {
   double min_us = 1100;
   double neutral_us = 1500;

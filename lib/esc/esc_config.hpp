@@ -2,7 +2,7 @@
 //
 // The config names the vehicle file (path relative to the config file); the ESC list must
 // cover exactly the vehicle's thrusters, by name, and each ESC's `reversed` flag comes from the
-// vehicle file (the one place a thruster is reversed, see SHARED_DECISIONS / README). Keys:
+// vehicle file (the one place a thruster is reversed, see docs/escs-and-wiring.md). Keys:
 //   vehicle, backend (i2c_tgy | pca9685 | sim | dry_run), rate_hz, command_timeout_ms,
 //   disarm_on_timeout, arm_neutral_tolerance, missing_esc (refuse | degraded),
 //   write_on_command, min_write_interval_ms, command_senders ([mixer]: the signed senders whose

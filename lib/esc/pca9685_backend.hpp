@@ -1,8 +1,9 @@
 // PWM ESCs through a PCA9685 16-channel PWM board on I2C (seed 001's duty-cycle board).
 //
-// Registers (hardware.md): MODE1 0x00 (RESTART 0x80, EXTCLK 0x40, AI 0x20, SLEEP 0x10), MODE2
-// 0x01 (OUTDRV 0x04), LEDn_ON_L = 0x06 + 4n (ON_L, ON_H, OFF_L, OFF_H), PRE_SCALE 0xFE
-// (writable only while SLEEP = 1). Power-up state: asleep, no pulses. Start-up: MODE1 <- SLEEP|AI
+// Registers (NXP PCA9685 datasheet; docs/escs-and-wiring.md): MODE1 0x00 (RESTART 0x80, EXTCLK
+// 0x40, AI 0x20, SLEEP 0x10), MODE2 0x01 (OUTDRV 0x04), LEDn_ON_L = 0x06 + 4n (ON_L, ON_H, OFF_L,
+// OFF_H), PRE_SCALE 0xFE (writable only while SLEEP = 1). Power-up state: asleep, no pulses.
+// Start-up: MODE1 <- SLEEP|AI
 // (+EXTCLK, set while asleep), PRE_SCALE <- round(f_clk / (4096 f_pwm)) - 1, MODE2 <- OUTDRV (totem
 // pole) or 0, MODE1 <- AI (wake), wait 500 us, MODE1 <- RESTART|AI, read MODE1 and PRE_SCALE back,
 // then every channel to its neutral pulse. Each cycle: one 5-byte auto-increment write per channel

@@ -1,6 +1,7 @@
 // BlueESC / tgy (SIMPLE_I2C build) ESCs on I2C, seed 000: 16-bit signed throttle.
 //
-// Register map (hardware.md; the register pointer auto-increments):
+// Register map (docs/escs-and-wiring.md, from Blue Robotics' tgy fork; the register pointer
+// auto-increments):
 //   0x00-0x01 W  throttle int16 big-endian, +-32767 full, negative = reverse
 //   0x02-0x03 R  commutation pulses since the last read (the read clears them)
 //   0x04-0x05 R  battery voltage raw: V = raw / 65536 * 5 * 6.45

@@ -1,5 +1,5 @@
-// Every LCM channel Tiller uses, in one place. The README's channel table lists who publishes
-// and who listens; keep the two in step.
+// Every LCM channel Tiller uses, in one place. docs/reference/channels.md lists who publishes
+// and who listens (test/runtime/channel_table_test.cpp checks it); keep the two in step.
 #pragma once
 
 namespace tiller::channels {

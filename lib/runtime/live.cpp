@@ -73,9 +73,9 @@ LiveExecutor::LiveExecutor(const std::string& url, auth::Policy policy)
   const std::string u = with_default_ttl(url);
   lcm_ = std::make_unique<lcm::LCM>(u);
   if (!lcm_->good()) {
-    throw std::runtime_error(
-        "cannot open LCM at '" + u +
-        "' (no multicast route? try: ip route add 224.0.0.0/4 dev lo, see README)");
+    throw std::runtime_error("cannot open LCM at '" + u +
+                             "' (no multicast route? try: ip route add 224.0.0.0/4 dev lo, see "
+                             "docs/troubleshooting.md)");
   }
   raw_bus_ = std::make_unique<LcmBus>(lcm_->getUnderlyingLCM(), verifier_.policy(),
                                       verifier_.policy().raw_sender);

@@ -48,7 +48,8 @@ struct DynamicsParams {
   // Mass matrix whose Coriolis-centripetal forces are modelled (Fossen Theorem 3.2 applied to
   // it). Default: mass_matrix (rigid body and added mass); a surface_3dof file may set
   // `coriolis_mass_matrix` to model a different part. No shipped vehicle file sets it (the
-  // Otter's keeps the full M; README, section sim, says why and what otter.py does).
+  // Otter's keeps the full M; docs/algorithms.md, "Vehicle models", says why and what otter.py
+  // does).
   Matrix6 coriolis_mass_matrix = Matrix6::Identity();
   // Damping: force_i = -(linear_i + quadratic_i |nu_r,i|) nu_r,i (both >= 0).
   Vector6 linear_damping = Vector6::Zero();

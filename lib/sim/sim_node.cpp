@@ -45,8 +45,8 @@ std::vector<sim::ThrusterGeometry> geometry_of(const Vehicle& v) {
 SimParams load_sim_params(const config::Value& root) {
   SimParams p;
   p.vehicle_file = resolve_relative(root, root.string("vehicle"));
-  // vehicles.md: RK4 at <= 10 ms (the ROV's 50 ms thruster lag is integrated exactly, but its
-  // fast roll and pitch modes are not; model_test flies every vehicle file at 10 ms).
+  // RK4 at <= 10 ms (docs/adding-a-vehicle.md) (the ROV's 50 ms thruster lag is integrated exactly,
+  // but its fast roll and pitch modes are not; model_test flies every vehicle file at 10 ms).
   const double step_s = root.number_or("step_s", 0.01, {1e-4, 0.01});
   p.step_us = from_seconds(step_s);
   p.odometry_period_us = period_from_rate(root, "odometry_rate_hz", p.step_us);

@@ -48,8 +48,8 @@ struct SimParams {
   //   kSafe      esc_timeout_us for every ESC (the default: a simulated vehicle whose bus driver
   //              died stops, whatever its ESCs would do);
   //   kHardware  as the ESCs would: an I2C throttle ESC (BlueESC/tgy, UNIT_THROTTLE_INT16)
-  //              keeps its last throttle for kTgyHoldUs and then stops (hardware.md: about
-  //              4-5 s); a PWM ESC behind a PCA9685 (UNIT_PULSE_US) keeps its last pulse, so
+  //              keeps its last throttle for kTgyHoldUs and then stops (docs/escs-and-wiring.md:
+  //              about 4-5 s); a PWM ESC behind a PCA9685 (UNIT_PULSE_US) keeps its last pulse, so
   //              the motors keep turning indefinitely (for testing what a dead driver does).
   enum class EscTimeoutModel { kSafe, kHardware };
   EscTimeoutModel esc_timeout_model = EscTimeoutModel::kSafe;

@@ -12,7 +12,8 @@
 //              never goes past the curve's peak (the BlueROV2 T200 fit peaks before |u| = 1)
 // Presets: "t200_12v" (Blue Robotics T200 at 12 V, September 2019 data, 1100..1900 us mapped to
 // -1..1 with 1500 us neutral, zero band 1464..1536 us; kgf * 9.80665), "t200_poly" (the
-// BlueROV2 polynomial of von Benzon et al. 2022, design/vehicles.md).
+// BlueROV2 polynomial of von Benzon et al. 2022, doi:10.3390/jmse10121898,
+// docs/adding-a-vehicle.md).
 //
 // thrust() and command() never allocate and never throw; command() clamps to the curve's range
 // and returns 0 for zero thrust (neutral stays neutral even inside a dead band).

@@ -5,7 +5,7 @@
 // a positive thruster command; thrust limits in N (positive numbers); wrench axes
 // [X Y Z K M N] (N, N m), index 0..5.
 //
-// Reversal (SHARED_DECISIONS.md): `reversed: true` means the motor is wired or propped
+// Reversal (docs/escs-and-wiring.md): `reversed: true` means the motor is wired or propped
 // backwards, so a positive motor (ESC) command pushes the vehicle AGAINST `direction`. Tiller's
 // thruster command keeps "positive = along direction"; tiller-esc flips the hardware sign. So
 // when reversed, pushing along `direction` uses the motor's (weaker) reverse side. The helpers

@@ -24,7 +24,10 @@ Vehicle heavy8() {
   const double xs[4] = {0.12, 0.12, -0.12, -0.12}, ys[4] = {-0.22, 0.22, -0.22, 0.22};
   for (int k = 0; k < 4; ++k) {
     Thruster t = v.thrusters[0];
-    t.name = "V" + std::to_string(k);
+    // Not "V" + std::to_string(k): GCC 12 at -O3 inlines that operator+ and raises a false
+    // -Werror=restrict inside std::string (GCC bug 105329 / 105651).
+    t.name = std::to_string(k);
+    t.name.insert(0, 1, 'V');
     t.position = {xs[k], ys[k], 0.0};
     t.direction = {0, 0, -1};
     t.group = "vertical";

@@ -1,7 +1,9 @@
 // Helpers for the allocation tests: preset loading and seeded random wrenches.
 #pragma once
 
+#include <algorithm>
 #include <array>
+#include <filesystem>
 #include <limits>
 #include <random>
 #include <string>
@@ -14,10 +16,18 @@
 
 namespace tiller::test {
 
+// Every vehicle file in config/vehicles/ (by stem, sorted): a new vehicle is in every invariant
+// test without editing this list (docs/adding-a-vehicle.md).
 inline const std::vector<std::string>& preset_names() {
-  static const std::vector<std::string> names = {
-      "seed000_rov4",  "seed001_rov6", "seed004_usv_x", "seed004_usv_x_table",
-      "seed004_usv_h", "otter",        "wamv",          "seed001_rov6_table"};
+  static const std::vector<std::string> names = [] {
+    std::vector<std::string> out;
+    for (const auto& e :
+         std::filesystem::directory_iterator(std::string(TILLER_SOURCE_DIR) + "/config/vehicles")) {
+      if (e.path().extension() == ".yaml") out.push_back(e.path().stem().string());
+    }
+    std::sort(out.begin(), out.end());
+    return out;
+  }();
   return names;
 }
 

@@ -1,10 +1,10 @@
 // A small stand-in plant for closed-loop tests of the autonomy alone: the Otter's 3-DOF
-// surge-sway-yaw model (vehicles.md: M = diag(85.5, 162.5, 42.65), D = 77.55, 162.5, 42.65 +
-// quadratic yaw 10 * 42.65 |r| r) moving relative to a constant current, with the Otter's two
-// propellers (y = -+0.395 m, +119.7 / -66.7 N, no sway authority) allocated directly from the
-// wrench the arbitration selects. It stands in for mixer + esc + simulator; the full stack
-// (MixerNode, EscNode, SimNode) is what test/autonomy's closed-loop tests use when present.
-// World NED, body FRD; explicit Euler at 10 ms (the model is heavily damped).
+// surge-sway-yaw model (otter.py's numbers, docs/adding-a-vehicle.md: M = diag(85.5, 162.5, 42.65),
+// D = 77.55, 162.5, 42.65 + quadratic yaw 10 * 42.65 |r| r) moving relative to a constant current,
+// with the Otter's two propellers (y = -+0.395 m, +119.7 / -66.7 N, no sway authority) allocated
+// directly from the wrench the arbitration selects. It stands in for mixer + esc + simulator; the
+// full stack (MixerNode, EscNode, SimNode) is what test/autonomy's closed-loop tests use when
+// present. World NED, body FRD; explicit Euler at 10 ms (the model is heavily damped).
 #pragma once
 
 #include <tiller/allocation_status_t.hpp>

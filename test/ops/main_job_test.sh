@@ -19,7 +19,7 @@ log=$(echo "$out" | sed -n 's/^tiller: log  //p')
 png=$(echo "$out" | sed -n 's/^tiller: plot //p')
 [ -s "$log" ] || { echo "FAIL: no log at '$log'"; fail=1; }
 [ -s "$png" ] && head -c 4 "$png" | grep -q PNG || { echo "FAIL: no PNG at '$png'"; fail=1; }
-# The newcomer's replay (README): tiller-replay LOG, from another directory, with the manifest
+# The newcomer's replay (docs/operations.md): tiller-replay LOG, from another directory, with the manifest
 # tiller-launch wrote next to the log. Nothing changed: PASS (exit 0), every replayable process
 # replayed as a live log. A changed gain (the path follower's max_speed 1.5 -> 1.6 m/s): FAIL
 # (exit 1) naming the channel and the first difference.

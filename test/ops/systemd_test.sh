@@ -1,7 +1,7 @@
 #!/bin/sh
 # tools/systemd/tiller@.service passes `systemd-analyze verify` without a single warning (an
 # [Unit] key under [Service], say, is only warned about and then ignored by systemd), keeps the
-# settings the README promises (start limit under [Unit], no restart loop on exit 2), and names a
+# settings docs/operations.md promises (start limit under [Unit], no restart loop on exit 2), and names a
 # launch file that exists for the documented instance. The unit's /opt/tiller is replaced by
 # this tree so ExecStart names a real program. Skipped (exit 77) only when systemd-analyze is
 # not installed. Args: SOURCE_DIR BUILD_DIR

@@ -1,6 +1,7 @@
-// The README's channel table against the nodes themselves: each program's node is built from
-// its default config, and what it declares (subscribe<Msg>() and advertise<Msg>()) must be
-// exactly what the table says, type included. Table rule (README, "Channels"): a cell of the
+// The channel table (docs/reference/channels.md, section "## Channels") against the nodes
+// themselves: each program's node is built from its default config, and what it declares
+// (subscribe<Msg>() and advertise<Msg>()) must be exactly what the table says, type included.
+// Table rule (stated on that page): a cell of the
 // "published by" or "listened to by" columns names programs as `tiller-<name>` in backticks;
 // other words there (logs, plots, spy, `--replay`) are free text. Every channel a node declares has
 // a row.
@@ -22,6 +23,7 @@
 #include "control/velocity_pid_node.hpp"
 #include "core/config.hpp"
 #include "esc/esc_node.hpp"
+#include "esc/fake/fake_i2c.hpp"
 #include "guidance/follower_config.hpp"
 #include "guidance/path_follower_node.hpp"
 #include "mission/mission.hpp"
@@ -29,6 +31,8 @@
 #include "mixer/mixer_node.hpp"
 #include "runtime/channels.hpp"
 #include "runtime/lockstep.hpp"
+#include "sensors/gnss_node.hpp"
+#include "sensors/pressure_node.hpp"
 #include "sim/sim_node.hpp"
 #include "teleop/teleop_node.hpp"
 #include "teleop/teleop_params.hpp"
@@ -37,6 +41,7 @@ namespace tiller {
 namespace {
 
 const std::string kRoot = TILLER_SOURCE_DIR;
+const std::string kTablePage = "docs/reference/channels.md";  // relative to kRoot
 
 struct Row {
   std::vector<std::string> channels;
@@ -69,8 +74,8 @@ std::vector<std::string> split_cells(const std::string& line) {
 }
 
 std::vector<Row> read_table() {
-  std::ifstream in(kRoot + "/README.md");
-  EXPECT_TRUE(in) << "cannot open README.md";
+  std::ifstream in(kRoot + "/" + kTablePage);
+  EXPECT_TRUE(in) << "cannot open " << kTablePage;
   std::vector<Row> rows;
   std::string line;
   bool in_section = false;
@@ -80,13 +85,13 @@ std::vector<Row> read_table() {
     if (line.rfind("## ", 0) == 0) in_section = line == "## Channels";
     if (!in_section || line.rfind("| `", 0) != 0) continue;
     const auto cells = split_cells(line);
-    EXPECT_EQ(cells.size(), 4u) << "README.md:" << n << ": expected 4 cells";
+    EXPECT_EQ(cells.size(), 4u) << kTablePage << ":" << n << ": expected 4 cells";
     if (cells.size() != 4) continue;
     Row r;
     r.line = n;
     r.channels = backticked(cells[0]);
     const auto types = backticked(cells[1]);
-    EXPECT_EQ(types.size(), 1u) << "README.md:" << n << ": one type per row";
+    EXPECT_EQ(types.size(), 1u) << kTablePage << ":" << n << ": one type per row";
     if (!types.empty()) r.type = types[0];
     auto program = [](const std::string& w) {
       return w.rfind("tiller-", 0) == 0 || w.rfind("lcm-", 0) == 0;
@@ -135,6 +140,12 @@ std::vector<Program> programs() {
   add("tiller-teleop", std::make_unique<TeleopNode>(teleop, TeleopNode::Input::replay));
   const auto m = mission::load_mission_file(kRoot + "/config/missions/default.yaml");
   add("tiller-mission", std::make_unique<mission::MissionNode>(m, 1, kUsPerSecond));
+  static esc::fake::FakeI2cBus i2c;  // the sensor drivers' nodes on an empty fake bus
+  add("tiller-pressure",
+      std::make_unique<sensors::PressureNode>(
+          sensors::load_pressure_file(kRoot + "/config/sensors/pressure_bar30.yaml"), i2c));
+  add("tiller-gnss", std::make_unique<sensors::GnssNode>(
+                         sensors::load_gnss_file(kRoot + "/config/sensors/gnss_gpsd.yaml")));
   return out;
 }
 
@@ -143,9 +154,9 @@ const std::set<std::string> kTools = {"tiller-log",    "tiller-score",  "tiller-
                                       "tiller-replay", "tiller-launch", "lcm-logger",
                                       "lcm-spy"};
 
-TEST(ChannelTable, ReadmeMatchesWhatEveryNodeDeclares) {
+TEST(ChannelTable, DocsTableMatchesWhatEveryNodeDeclares) {
   const auto rows = read_table();
-  ASSERT_GT(rows.size(), 15u) << "no channel table found under '## Channels' in README.md";
+  ASSERT_GT(rows.size(), 15u) << "no channel table found under '## Channels' in " << kTablePage;
   const auto progs = programs();
   std::set<std::string> names;
   for (const auto& p : progs) names.insert(p.name);
@@ -155,7 +166,7 @@ TEST(ChannelTable, ReadmeMatchesWhatEveryNodeDeclares) {
     for (const auto* set : {&r.publishers, &r.listeners}) {
       for (const auto& n : *set) {
         EXPECT_TRUE(names.count(n) || kTools.count(n))
-            << "README.md:" << r.line << ": unknown program `" << n << "`";
+            << kTablePage << ":" << r.line << ": unknown program `" << n << "`";
       }
     }
   }
@@ -172,38 +183,40 @@ TEST(ChannelTable, ReadmeMatchesWhatEveryNodeDeclares) {
         pubs.insert(c);
         const auto it = by_channel.find(c);
         if (it == by_channel.end()) continue;
-        EXPECT_EQ(it->second->type, n->published_type(c)) << "README.md:" << it->second->line;
+        EXPECT_EQ(it->second->type, n->published_type(c)) << kTablePage << ":" << it->second->line;
       }
       for (const auto& c : n->subscribed_channels()) {
         subs.insert(c);
         const auto it = by_channel.find(c);
         if (it == by_channel.end()) continue;
-        EXPECT_EQ(it->second->type, n->subscribed_type(c)) << "README.md:" << it->second->line;
+        EXPECT_EQ(it->second->type, n->subscribed_type(c)) << kTablePage << ":" << it->second->line;
       }
       EXPECT_EQ(n->heartbeat_channel().rfind(channels::kHeartbeatPrefix, 0), 0u);
     }
     for (const auto& c : pubs) {
       const auto it = by_channel.find(c);
-      ASSERT_NE(it, by_channel.end()) << p.name << " publishes " << c << ": no row in README";
+      ASSERT_NE(it, by_channel.end())
+          << p.name << " publishes " << c << ": no row in " << kTablePage;
       EXPECT_TRUE(it->second->publishers.count(p.name))
-          << "README.md:" << it->second->line << ": " << c << ": `" << p.name
+          << kTablePage << ":" << it->second->line << ": " << c << ": `" << p.name
           << "` publishes it but is not in 'published by'";
     }
     for (const auto& c : subs) {
       const auto it = by_channel.find(c);
-      ASSERT_NE(it, by_channel.end()) << p.name << " listens to " << c << ": no row in README";
+      ASSERT_NE(it, by_channel.end())
+          << p.name << " listens to " << c << ": no row in " << kTablePage;
       EXPECT_TRUE(it->second->listeners.count(p.name))
-          << "README.md:" << it->second->line << ": " << c << ": `" << p.name
+          << kTablePage << ":" << it->second->line << ": " << c << ": `" << p.name
           << "` listens to it but is not in 'listened to by'";
     }
     for (const auto& r : rows) {
       for (const auto& c : r.channels) {
         if (r.publishers.count(p.name)) {
-          EXPECT_TRUE(pubs.count(c)) << "README.md:" << r.line << ": " << c << ": `" << p.name
+          EXPECT_TRUE(pubs.count(c)) << kTablePage << ":" << r.line << ": " << c << ": `" << p.name
                                      << "` is listed as a publisher but does not advertise it";
         }
         if (r.listeners.count(p.name)) {
-          EXPECT_TRUE(subs.count(c)) << "README.md:" << r.line << ": " << c << ": `" << p.name
+          EXPECT_TRUE(subs.count(c)) << kTablePage << ":" << r.line << ": " << c << ": `" << p.name
                                      << "` is listed as a listener but does not subscribe";
         }
       }
@@ -237,7 +250,7 @@ TEST(ChannelTable, UnadvertisedPublishIsCounted) {
 
 // The whole stack in lockstep for a minute of a mission: no node publishes on a channel it did
 // not advertise (no "unadvertised.*" counter in any heartbeat), and every channel that goes on
-// the bus has a row in the README.
+// the bus has a row in the channel table.
 TEST(ChannelTable, FullStackPublishesOnlyWhatItAdvertises) {
   const auto control = config::Value::load_file(kRoot + "/config/control/seed004_usv_x.yaml");
   control::VelocityPidNode pid(control::load_velocity_pid_node_params(control));
@@ -273,7 +286,7 @@ TEST(ChannelTable, FullStackPublishesOnlyWhatItAdvertises) {
   for (const auto& r : rows) in_table.insert(r.channels.begin(), r.channels.end());
   for (const auto& ch : on_bus) {
     if (ch.rfind(channels::kHeartbeatPrefix, 0) == 0) continue;
-    EXPECT_TRUE(in_table.count(ch)) << ch << " is on the bus but has no row in the README";
+    EXPECT_TRUE(in_table.count(ch)) << ch << " is on the bus but has no row in " << kTablePage;
   }
 }
 

@@ -42,6 +42,8 @@
 #include "mixer/mixer_node.hpp"
 #include "runtime/channels.hpp"
 #include "runtime/lockstep.hpp"
+#include "sensors/gnss_node.hpp"
+#include "sensors/pressure_node.hpp"
 #include "sim/sim_node.hpp"
 #include "teleop/teleop_node.hpp"
 #include "teleop/teleop_params.hpp"
@@ -156,6 +158,19 @@ std::vector<NodeCase> node_cases() {
                        return std::make_unique<TeleopNode>(load_teleop_file(f), in);
                      }});
     }
+  }
+  for (const auto& f : shipped("sensors")) {
+    if (fs::path(f).filename().string().rfind("pressure", 0) != 0) continue;
+    out.push_back({"PressureNode", "tiller-pressure " + rel(f), [f](InputContext&) {
+                     return std::make_unique<sensors::PressureNode>(sensors::load_pressure_file(f),
+                                                                    fake_bus());
+                   }});
+  }
+  for (const auto& f : shipped("sensors")) {
+    if (fs::path(f).filename().string().rfind("gnss", 0) != 0) continue;
+    out.push_back({"GnssNode", "tiller-gnss " + rel(f), [f](InputContext&) {
+                     return std::make_unique<sensors::GnssNode>(sensors::load_gnss_file(f));
+                   }});
   }
   for (const auto& f : shipped("missions")) {
     out.push_back({"MissionNode", "tiller-mission " + rel(f), [f](InputContext&) {

@@ -46,8 +46,8 @@ TEST(Scores, PathScoresByHand) {
   EXPECT_DOUBLE_EQ(score_path(run, path, 0.0, std::nullopt, 1.5).time_to_complete, 2.0);
 }
 
-// VRX scores the task's waypoints (vehicles.md): a first point the boat does not start at is
-// one of them and is scored; one it starts at is not.
+// VRX scores the task's waypoints (docs/autonomy.md, scores): a first point the boat does not start
+// at is one of them and is scored; one it starts at is not.
 TEST(Scores, WayfindingLeavesOutTheStartOnly) {
   const std::vector<Goal> path{{0, 0}, {10, 0}};
   // Starts 3 m from the first point: every point scored. Best E: 1 (t = 1), 0 (t = 2).

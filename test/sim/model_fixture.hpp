@@ -1,6 +1,6 @@
 // Test fixtures for the vessel model: the reference vehicles exactly as the simulator runs them,
 // loaded from the shipped config/vehicles/<name>.yaml (dynamics and thruster geometry, through
-// load_sim_vehicle_file, every key checked; sources in ../shared/design/vehicles.md). The
+// load_sim_vehicle_file, every key checked; sources in docs/adding-a-vehicle.md). The
 // validation tests therefore check the files themselves, not copies of their numbers.
 #pragma once
 

@@ -1,6 +1,6 @@
-// Validation of the vessel model against the published numbers in vehicles.md (issue 4, item 7):
-// top speeds, decay without thrust, pure yaw from opposite thrust, drift with the current,
-// ROV buoyancy and heave speed, RK4 step-halving convergence, energy (with and without
+// Validation of the vessel model against the published numbers in docs/adding-a-vehicle.md (issue
+// 4, item 7): top speeds, decay without thrust, pure yaw from opposite thrust, drift with the
+// current, ROV buoyancy and heave speed, RK4 step-halving convergence, energy (with and without
 // damping), hand-computed restoring and wind forces, and determinism. Every vehicle is loaded
 // from its shipped config/vehicles/*.yaml (model_fixture.hpp), so the files themselves are
 // what is validated.
@@ -44,7 +44,7 @@ TEST(VesselModel, OtterFullThrustSettlesAt3_2MetresPerSecond) {
   m.set_thrust_target(1, 119.7);
   run(m, 30.0);
   const double u = m.nu()[0];
-  // vehicles.md: full throttle steady surge about 3.2 m/s; within 5 %.
+  // otter.py: full throttle steady surge about 3.2 m/s; within 5 %.
   EXPECT_NEAR(u, 3.2, 0.05 * 3.2);
   // Hand value: 2 * 119.7 N / 77.55 N s/m (linear surge damping only).
   EXPECT_NEAR(u, 2 * 119.7 / 77.55, 1e-6);
@@ -65,8 +65,8 @@ TEST(VesselModel, WamvTopSpeedAbout2_3MetresPerSecond) {
 }
 
 // Top speed of every surface vessel file: all thrusters that push ahead at their full forward
-// thrust from the file, steady surge = root of Xu u + Xuu u^2 = X. The README's table quotes
-// these numbers (seed 004 X: 4 x 250 N at 45 deg; H: 4 x 250 N ahead, the two sway thrusters
+// thrust from the file, steady surge = root of Xu u + Xuu u^2 = X. docs/adding-a-vehicle.md's table
+// quotes these numbers (seed 004 X: 4 x 250 N at 45 deg; H: 4 x 250 N ahead, the two sway thrusters
 // idle).
 TEST(VesselModel, SurfaceVesselTopSpeedsFromTheShippedFiles) {
   struct Case {
@@ -92,7 +92,7 @@ TEST(VesselModel, SurfaceVesselTopSpeedsFromTheShippedFiles) {
     run(m, 60.0);
     const double u = m.nu()[0];
     EXPECT_NEAR(u, steady_speed(c.x_full, 51.3, 72.4), 1e-6);
-    EXPECT_NEAR(u, c.expected, 0.005);  // the README's two decimals
+    EXPECT_NEAR(u, c.expected, 0.005);  // the docs' two decimals
     EXPECT_NEAR(m.nu()[1], 0.0, 1e-9);
     EXPECT_NEAR(m.nu()[5], 0.0, 1e-9);
   }

@@ -87,7 +87,7 @@ TEST(SimNode, OtterFullThrottleThroughEscOutputReaches3_1MetresPerSecond) {
   EXPECT_EQ(rec.state.size(), 601u);
   EXPECT_EQ(rec.odom[1].utime, 50'000);
   const auto& last = rec.odom.back();
-  EXPECT_NEAR(last.velocity[0], 2 * 119.7 / 77.55, 1e-4);  // 3.087 m/s, vehicles.md ~3.2
+  EXPECT_NEAR(last.velocity[0], 2 * 119.7 / 77.55, 1e-4);  // 3.087 m/s, otter.py ~3.2
   EXPECT_NEAR(last.velocity[0], 3.2, 0.05 * 3.2);
   EXPECT_NEAR(last.position[1], 0.0, 1e-9);
   EXPECT_EQ(rec.state.back().n_thrusters, 2);
@@ -132,7 +132,8 @@ TEST(SimNode, Seed000FullThrottleGivesTheT200Thrust) {
   EXPECT_EQ(mixer_view.thrusters[0].thrust_from_command(1.0), 30.0);  // the seed's assumption
   node.on_esc_output(
       esc_output(node.vehicle(), esc_output_t::UNIT_THROTTLE_INT16, {32767, -32767, 16384, 0}), 0);
-  // hardware.md: T200 at 12 V, 1900 us +3.71 kgf, 1100 us -2.90 kgf.
+  // Blue Robotics' T200 data (docs/adding-a-vehicle.md): at 12 V, 1900 us +3.71 kgf, 1100 us -2.90
+  // kgf.
   EXPECT_NEAR(node.commanded_thrust(0), 3.71 * 9.80665, 1e-9);
   EXPECT_NEAR(node.commanded_thrust(1), -2.90 * 9.80665, 1e-9);
   // Half throttle (1700 us): 1.28 kgf, about a third of full, not 15 N.
@@ -388,7 +389,8 @@ TEST(SimNode, ConfigFileLoadsAndBadConfigsNameTheKey) {
       "odometry_rate_hz");
   expect_error(base + "current: {model: constant, speed_m_s: 0.3, toward: 30}\n", "toward_deg");
   expect_error(base + "pulse_us: {min: 1600, neutral: 1500, max: 1900}\n", "pulse_us");
-  // vehicles.md: RK4 at <= 10 ms; a longer step is refused naming the key and the range.
+  // RK4 at <= 10 ms (docs/adding-a-vehicle.md); a longer step is refused naming the key and the
+  // range.
   expect_error(base + "step_s: 0.02\n", "step_s: expected a number in [0.0001, 0.01]");
   // With model none the other keys are still checked: a typo, or a bad value, is refused.
   expect_error(base + "current: {model: none, speed_m_s: 0.3, towards_deg: 30}\n", "towards_deg");

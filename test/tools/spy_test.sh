@@ -19,7 +19,7 @@ set -u
 src="$1"; build="$2"
 out="$build/test-out/spy"; mkdir -p "$out"
 for tool in java javac lcm-spy Xvfb import; do
-  command -v $tool > /dev/null 2>&1 || { echo "FAIL: $tool is not installed (apt-get install default-jdk liblcm-java xvfb imagemagick; see README)"; exit 1; }
+  command -v $tool > /dev/null 2>&1 || { echo "FAIL: $tool is not installed (apt-get install default-jdk liblcm-java xvfb imagemagick; see docs/getting-started.md)"; exit 1; }
 done
 # lcm-spy opens windows: a headless JRE (default-jre-headless alone) has no AWT X11 toolkit and
 # lcm-spy dies at its first window. The JRE's lib/ holds libawt_xawt.so when it can open them.

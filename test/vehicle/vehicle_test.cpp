@@ -1,6 +1,7 @@
 // Vehicle descriptions and thrust curves: every preset file loads; the T200 table reproduces
-// hardware.md's numbers; forward and inverse maps round-trip; reversal swaps the limits; the
-// loader refuses bad files with the file, the key and what was expected.
+// Blue Robotics' T200 numbers (docs/adding-a-vehicle.md); forward and inverse maps round-trip;
+// reversal swaps the limits; the loader refuses bad files with the file, the key and what was
+// expected.
 #include <gtest/gtest.h>
 
 #include <cmath>
@@ -90,7 +91,7 @@ TEST(ThrustCurve, T200TableMatchesHardwareData) {
   EXPECT_EQ(c.thrust(0.08), 0.0);
   EXPECT_EQ(c.thrust(-0.09), 0.0);
   EXPECT_GT(c.thrust(0.1), 0.0);
-  // Reverse about 78 % of forward (hardware.md).
+  // Reverse about 78 % of forward (T200 data, docs/adding-a-vehicle.md).
   EXPECT_NEAR(c.max_reverse_n() / c.max_forward_n(), 0.78, 0.01);
   // Half command gives about a third of full thrust.
   EXPECT_NEAR(c.thrust(0.5) / c.thrust(1.0), 0.345, 0.01);

@@ -1,0 +1,28 @@
+// tiller-pressure: an MS5837 pressure sensor (Bar30 / Bar02) on Linux I2C -> TILLER_PRESSURE.
+// A missing device is said on stderr and in the heartbeat (FAULT, bus and address named) and
+// retried; the process keeps running.
+#include <cstdio>
+
+#include "esc/linux_i2c.hpp"
+#include "runtime/app.hpp"
+#include "runtime/live.hpp"
+#include "sensors/pressure_node.hpp"
+
+int main(int argc, char** argv) {
+  using namespace tiller;
+  const app::Spec spec{"tiller-pressure",
+                       "MS5837 pressure sensor on I2C -> pressure and depth",
+                       "config/sensors/pressure_bar30.yaml",
+                       {}};
+  const app::Args args = app::parse(argc, argv, spec);
+  return app::guarded_main(spec.program, [&] {
+    const sensors::PressureParams p = sensors::load_pressure_file(args.config);
+    esc::LinuxI2c bus(p.bus);
+    sensors::PressureNode node(p, bus);
+    std::fprintf(stderr, "tiller-pressure: %s at 0x%02x, OSR %d, %.0f Hz, water %.0f kg/m^3\n",
+                 p.bus.c_str(), p.address, p.osr.ratio, p.rate_hz, p.water_density);
+    LiveExecutor ex(args.lcm_url);
+    ex.add(node);
+    return ex.run();
+  });
+}

@@ -1,0 +1,335 @@
+// The bounded solver: largest scale along the minimum-norm pattern, the bounded simplex over the
+// null space, the zonotope facets' largest scale, a feasible start, and how the thrust is chosen
+// among those making the achieved wrench.
+#include "allocation/allocator.hpp"
+
+#include <Eigen/Dense>
+#include <algorithm>
+#include <cmath>
+#include <sstream>
+#include <stdexcept>
+
+#include "allocation/detail.hpp"
+
+namespace tiller {
+
+using namespace allocation_detail;
+
+double Allocator::max_scale(const Group& g, const ThrustVec& a, const ThrustVec& b) const {
+  double mu = kInf;
+  for (std::size_t k = 0; k < g.idx.size(); ++k) {
+    const auto i = static_cast<std::size_t>(g.idx[k]);
+    const auto kk = static_cast<Eigen::Index>(k);
+    const double lo = lo_[i], hi = hi_[i];
+    if (b(kk) < lo * (1 + 1e-12) || b(kk) > hi * (1 + 1e-12)) return -1.0;
+    if (a(kk) > 0) mu = std::min(mu, (hi - b(kk)) / a(kk));
+    if (a(kk) < 0) mu = std::min(mu, (lo - b(kk)) / a(kk));
+  }
+  return std::max(mu, 0.0);
+}
+
+Allocator::Lp Allocator::make_lp(const Eigen::MatrixXd& a,
+                                 const std::array<double, kMaxThrusters>& lo,
+                                 const std::array<double, kMaxThrusters>& hi) {
+  Lp lp;
+  lp.m = static_cast<int>(a.rows());
+  lp.n = static_cast<int>(a.cols());
+  lp.lo = lo;
+  lp.hi = hi;
+  // Starting basis: the first columns that add rank (A has full row rank by construction).
+  std::vector<int> cols;
+  for (int j = 0; j < lp.n && static_cast<int>(cols.size()) < lp.m; ++j) {
+    std::vector<int> trial = cols;
+    trial.push_back(j);
+    std::vector<int> rows(static_cast<std::size_t>(lp.m));
+    for (int r = 0; r < lp.m; ++r) rows[static_cast<std::size_t>(r)] = r;
+    if (rank_of(rows_cols(a, rows, trial)) > static_cast<int>(cols.size())) cols = trial;
+  }
+  if (static_cast<int>(cols.size()) != lp.m)
+    throw std::logic_error("allocation LP: rows of the effectiveness matrix are dependent");
+  Eigen::MatrixXd ab(lp.m, lp.m);
+  for (int k = 0; k < lp.m; ++k) {
+    lp.basis[static_cast<std::size_t>(k)] = cols[static_cast<std::size_t>(k)];
+    ab.col(k) = a.col(cols[static_cast<std::size_t>(k)]);
+  }
+  const Eigen::MatrixXd inv = ab.fullPivLu().inverse();
+  const Eigen::MatrixXd t0 = inv * a;
+  for (int r = 0; r < lp.m; ++r) {
+    const auto rr = static_cast<std::size_t>(r);
+    for (int k = 0; k < lp.m; ++k) lp.binv0[rr][static_cast<std::size_t>(k)] = inv(r, k);
+    for (int j = 0; j < lp.n; ++j) lp.t0[rr][static_cast<std::size_t>(j)] = t0(r, j);
+    for (int k = 0; k < lp.m; ++k)  // exact identity on the basis columns
+      lp.t0[rr][static_cast<std::size_t>(cols[static_cast<std::size_t>(k)])] = r == k ? 1 : 0;
+  }
+  return lp;
+}
+
+// Bounded primal simplex on the tableau of [A | -d/|d|] (m <= 6 rows, n + 1 <= 17 columns,
+// fixed-size arrays). Start: f0 (nonbasic values anywhere within their bounds) and mu = 0; the
+// basic variables are f0's own values since A f0 = A f0. Bland's rule (smallest index enters,
+// smallest index leaves among ties) rules out cycling; every step keeps the point feasible.
+double Allocator::lp_max_scale(const Lp& lp, const ThrustVec& f0, const Small& d, double cap,
+                               ThrustVec& f) {
+  constexpr double kEps = 1e-10, kPiv = 1e-9, kTol = 1e-9;
+  constexpr int kCols = kMaxThrusters + 1;
+  const int m = lp.m, n = lp.n, mu = n;
+  double dn2 = 0;
+  for (int k = 0; k < m; ++k) dn2 += d(k) * d(k);
+  if (!(dn2 > 0)) {
+    f = f0;
+    return cap;
+  }
+  const double dn = std::sqrt(dn2);
+  double t[6][kCols];
+  double x[kCols], lo[kCols], hi[kCols];
+  int basic[6];
+  bool is_basic[kCols] = {};
+  for (int i = 0; i < m; ++i) {
+    const auto ii = static_cast<std::size_t>(i);
+    for (int j = 0; j < n; ++j) t[i][j] = lp.t0[ii][static_cast<std::size_t>(j)];
+    double c = 0;
+    for (int k = 0; k < m; ++k) c += lp.binv0[ii][static_cast<std::size_t>(k)] * d(k);
+    t[i][mu] = -c / dn;
+    basic[i] = lp.basis[ii];
+    is_basic[basic[i]] = true;
+  }
+  for (int j = 0; j < n; ++j) {
+    x[j] = f0(j);
+    lo[j] = lp.lo[static_cast<std::size_t>(j)];
+    hi[j] = lp.hi[static_cast<std::size_t>(j)];
+  }
+  x[mu] = 0;
+  lo[mu] = 0;
+  hi[mu] = cap * dn;
+  int mu_row = -1;
+  bool unbounded = false;
+  for (int iter = 0; iter < 8 * kCols; ++iter) {
+    // Entering: smallest index whose move raises mu (mu itself while it is nonbasic).
+    int enter = -1;
+    double s = 0;
+    if (mu_row < 0) {
+      if (x[mu] < hi[mu] - kTol) {
+        enter = mu;
+        s = 1;
+      }
+    } else {
+      const double* row = t[mu_row];
+      for (int j = 0; j < n; ++j) {
+        if (is_basic[j]) continue;
+        const double r = -row[j];
+        if (r > kEps && x[j] < hi[j] - kTol) {
+          enter = j;
+          s = 1;
+          break;
+        }
+        if (r < -kEps && x[j] > lo[j] + kTol) {
+          enter = j;
+          s = -1;
+          break;
+        }
+      }
+    }
+    if (enter < 0) break;  // optimal
+    double step = s > 0 ? hi[enter] - x[enter] : x[enter] - lo[enter];
+    int leave = -1;
+    for (int i = 0; i < m; ++i) {
+      const double alpha = s * t[i][enter];  // x[basic[i]] changes by -alpha per unit step
+      const int b = basic[i];
+      double lim;
+      if (alpha > kPiv)
+        lim = (x[b] - lo[b]) / alpha;
+      else if (alpha < -kPiv)
+        lim = (hi[b] - x[b]) / -alpha;
+      else
+        continue;
+      lim = std::max(lim, 0.0);
+      if (lim < step || (lim == step && leave >= 0 && b < basic[leave])) {
+        step = lim;
+        leave = i;
+      }
+    }
+    if (!std::isfinite(step)) {  // unbounded along d (cap = inf)
+      unbounded = true;
+      break;
+    }
+    x[enter] += s * step;
+    for (int i = 0; i < m; ++i) x[basic[i]] -= s * t[i][enter] * step;
+    if (leave < 0) {  // the entering variable reached its own other bound
+      x[enter] = s > 0 ? hi[enter] : lo[enter];
+      continue;
+    }
+    const int b = basic[leave];
+    x[b] = s * t[leave][enter] > 0 ? lo[b] : hi[b];
+    const double inv = 1.0 / t[leave][enter];
+    double* prow = t[leave];
+    for (int j = 0; j <= n; ++j) prow[j] *= inv;
+    prow[enter] = 1.0;
+    for (int i = 0; i < m; ++i) {
+      if (i == leave) continue;
+      const double c = t[i][enter];
+      if (c == 0.0) continue;
+      for (int j = 0; j <= n; ++j) t[i][j] -= c * prow[j];
+      t[i][enter] = 0.0;
+    }
+    is_basic[b] = false;
+    is_basic[enter] = true;
+    basic[leave] = enter;
+    if (enter == mu)
+      mu_row = leave;
+    else if (b == mu)
+      mu_row = -1;
+  }
+  f.resize(n);
+  for (int j = 0; j < n; ++j) f(j) = std::clamp(x[j], lo[j], hi[j]);
+  if (unbounded) return kInf;
+  return std::min(cap, x[mu] / dn);
+}
+
+Allocator::Small Allocator::group_wrench(const Group& g, const ThrustVec& fg) {
+  const auto na = static_cast<Eigen::Index>(g.axes.size());
+  Small w = Small::Zero(na);
+  for (Eigen::Index r = 0; r < na; ++r)
+    for (std::size_t k = 0; k < g.idx.size(); ++k)
+      w(r) += g.rows(r, g.idx[k]) * fg(static_cast<Eigen::Index>(k));
+  return w;
+}
+
+double Allocator::facet_max_scale(const Group& g, const Small& c, const Small& d) {
+  const auto m = static_cast<int>(g.axes.size());
+  double cc[6], dd[6], dmax = 0;
+  for (int r = 0; r < m; ++r) {
+    cc[r] = c(r);
+    dd[r] = d(r);
+    dmax = std::max(dmax, std::abs(dd[r]));
+  }
+  const double tiny = 1e-12 * dmax;
+  // min over facets with n.d > 0 of (h - n.c) / (n.d), kept as a fraction num / den (den > 0)
+  // so that only one division is made.
+  double num = 1, den = 0;
+  for (const auto& f : g.facets) {
+    double nd = 0, nc = 0;
+    for (int r = 0; r < m; ++r) {
+      nd += f[static_cast<std::size_t>(r)] * dd[r];
+      nc += f[static_cast<std::size_t>(r)] * cc[r];
+    }
+    const double h = f[6] - nc;
+    if (nd > tiny && (den == 0 || h * den < num * nd)) {
+      num = h;
+      den = nd;
+    }
+  }
+  if (den == 0) return kInf;
+  return std::max(num / den, 0.0);
+}
+
+bool Allocator::feasible_start(const Group& g, const ThrustVec& b, ThrustVec& f0) const {
+  f0 = b;
+  bool fits = true;
+  for (std::size_t k = 0; k < g.idx.size(); ++k) {
+    const auto kk = static_cast<Eigen::Index>(k);
+    f0(kk) = std::clamp(b(kk), g.lp.lo[k], g.lp.hi[k]);
+    fits = fits && f0(kk) == b(kk);
+  }
+  if (fits) return true;
+  // Phase 1 with the same solver: from the clipped point toward b's wrench.
+  const auto na = static_cast<Eigen::Index>(g.axes.size());
+  Small d = Small::Zero(na);
+  for (Eigen::Index r = 0; r < na; ++r)
+    for (std::size_t k = 0; k < g.idx.size(); ++k)
+      d(r) += g.rows(r, g.idx[k]) *
+              (b(static_cast<Eigen::Index>(k)) - f0(static_cast<Eigen::Index>(k)));
+  ThrustVec f;
+  const double reach = lp_max_scale(g.lp, f0, d, 1.0, f);
+  if (reach < 1.0 - 1e-9) return false;
+  f0 = f;
+  return true;
+}
+
+// Cascaded pseudo-inverse from the minimum-norm point: thrusters beyond a limit are fixed at it
+// and the rest re-solved (minimum norm) for the same wrench, until everything fits. Depends on
+// the wrench alone, and a thruster reaching its limit changes nothing at that moment, so the
+// result moves continuously with the demand. False when it runs out of free thrusters.
+bool Allocator::cascade(const Group& g, const ThrustVec& f_mn, ThrustVec& f) const {
+  const int m = static_cast<int>(g.axes.size()), n = static_cast<int>(g.idx.size());
+  const Small w = group_wrench(g, f_mn);
+  f = f_mn;
+  bool fixed[kMaxThrusters] = {};
+  for (int iter = 0; iter < n; ++iter) {
+    bool any = false;
+    for (int k = 0; k < n; ++k) {
+      const auto kk = static_cast<std::size_t>(k);
+      const double lo = g.lp.lo[kk], hi = g.lp.hi[kk];
+      const double tol = 1e-9 * (1.0 + std::max(hi, -lo));
+      if (!fixed[k] && (f(k) > hi + tol || f(k) < lo - tol)) {
+        f(k) = std::clamp(f(k), lo, hi);
+        fixed[k] = true;
+        any = true;
+      }
+    }
+    if (!any) return true;
+    // Free thrusters: minimum norm for w - (fixed ones' wrench), f_F = B_F' (B_F B_F')^-1 r.
+    Small r = w;
+    int nfree = 0;
+    for (int k = 0; k < n; ++k) {
+      if (!fixed[k]) {
+        ++nfree;
+        continue;
+      }
+      for (int a = 0; a < m; ++a) r(a) -= g.rows(a, g.idx[static_cast<std::size_t>(k)]) * f(k);
+    }
+    if (nfree < m) return false;
+    Eigen::Matrix<double, Eigen::Dynamic, Eigen::Dynamic, 0, 6, 6> gram =
+        Eigen::Matrix<double, Eigen::Dynamic, Eigen::Dynamic, 0, 6, 6>::Zero(m, m);
+    for (int k = 0; k < n; ++k) {
+      if (fixed[k]) continue;
+      const int col = g.idx[static_cast<std::size_t>(k)];
+      for (int a = 0; a < m; ++a)
+        for (int c = 0; c < m; ++c) gram(a, c) += g.rows(a, col) * g.rows(c, col);
+    }
+    Eigen::LLT<Eigen::Matrix<double, Eigen::Dynamic, Eigen::Dynamic, 0, 6, 6>> llt(gram);
+    if (llt.info() != Eigen::Success) return false;
+    const Small y = llt.solve(r);
+    for (int k = 0; k < n; ++k) {
+      if (fixed[k]) continue;
+      const int col = g.idx[static_cast<std::size_t>(k)];
+      double v = 0;
+      for (int a = 0; a < m; ++a) v += g.rows(a, col) * y(a);
+      f(k) = v;
+    }
+  }
+  return false;
+}
+
+void Allocator::toward_feasible(const Group& g, const ThrustVec& f_mn, ThrustVec& f_v) const {
+  // With one spare direction, the first point within limits on the way from f_mn is the
+  // nearest whatever feasible f_v is. With more, the cascade (when it succeeds) is used: the
+  // segment toward an LP vertex could jump between vertices as the demand changes.
+  if (g.null_dim >= 2) {
+    ThrustVec fc;
+    if (cascade(g, f_mn, fc)) {
+      for (std::size_t k = 0; k < g.idx.size(); ++k)
+        fc(static_cast<Eigen::Index>(k)) =
+            std::clamp(fc(static_cast<Eigen::Index>(k)), g.lp.lo[k], g.lp.hi[k]);
+      f_v = fc;
+      return;
+    }
+  }
+  double t = 0;
+  for (std::size_t k = 0; k < g.idx.size(); ++k) {
+    const auto kk = static_cast<Eigen::Index>(k);
+    const double a = f_mn(kk), v = f_v(kk);
+    if (a > g.lp.hi[k] && a > v) t = std::max(t, (a - g.lp.hi[k]) / (a - v));
+    if (a < g.lp.lo[k] && a < v) t = std::max(t, (g.lp.lo[k] - a) / (v - a));
+  }
+  t = std::min(t, 1.0);
+  f_v = f_mn + t * (f_v - f_mn);
+}
+
+void Allocator::clamp_group(const Group& g, ThrustVec& f) const {
+  for (std::size_t k = 0; k < g.idx.size(); ++k) {
+    const auto i = static_cast<std::size_t>(g.idx[k]);
+    f(static_cast<Eigen::Index>(k)) = std::clamp(f(static_cast<Eigen::Index>(k)), lo_[i], hi_[i]);
+  }
+}
+
+}  // namespace tiller

@@ -1,0 +1,89 @@
+#include "sensors/gpsd_client.hpp"
+
+#include <gps.h>
+#include <sys/timerfd.h>
+#include <unistd.h>
+
+#include <cerrno>
+#include <cstdio>
+#include <cstring>
+
+namespace tiller::sensors {
+
+GpsdClient::GpsdClient(const GnssParams& p, GnssNode& node, LiveExecutor& ex)
+    : p_(p), node_(node), ex_(&ex), data_(std::make_unique<gps_data_t>()) {
+  timer_fd_ = ::timerfd_create(CLOCK_MONOTONIC, TFD_NONBLOCK | TFD_CLOEXEC);
+  if (timer_fd_ >= 0) {
+    itimerspec its{};
+    its.it_value.tv_sec = p.reconnect_period / kUsPerSecond;
+    its.it_value.tv_nsec = (p.reconnect_period % kUsPerSecond) * 1000;
+    its.it_interval = its.it_value;
+    ::timerfd_settime(timer_fd_, 0, &its, nullptr);
+    ex_->add_fd(timer_fd_, [this](TimeUs now) { on_timer(now); });
+  }
+}
+
+GpsdClient::~GpsdClient() {
+  if (open_) {
+    ex_->remove_fd(data_->gps_fd);
+    ::gps_stream(data_.get(), WATCH_DISABLE, nullptr);
+    ::gps_close(data_.get());
+  }
+  if (timer_fd_ >= 0) {
+    ex_->remove_fd(timer_fd_);
+    ::close(timer_fd_);
+  }
+}
+
+std::string GpsdClient::connect(TimeUs now) {
+  if (open_) return "";
+  std::memset(data_.get(), 0, sizeof(gps_data_t));
+  if (::gps_open(p_.host.c_str(), p_.port.c_str(), data_.get()) != 0) {
+    const std::string why = "cannot connect to gpsd at " + p_.host + ":" + p_.port + ": " +
+                            ::gps_errstr(errno) +
+                            " (is gpsd running? `systemctl status gpsd`, or start it with "
+                            "`gpsd -N /dev/ttyACM0`)";
+    drop(why, now);
+    return why;
+  }
+  ::gps_stream(data_.get(), WATCH_ENABLE | WATCH_JSON, nullptr);
+  open_ = true;
+  ex_->add_fd(data_->gps_fd, [this](TimeUs t) { pump(t); });
+  std::fprintf(stderr, "tiller-gnss: connected to gpsd at %s:%s\n", p_.host.c_str(),
+               p_.port.c_str());
+  said_.clear();
+  node_.set_link("", now);
+  return "";
+}
+
+bool GpsdClient::pump(TimeUs now) {
+  if (!open_) return false;
+  while (::gps_waiting(data_.get(), 0)) {
+    if (::gps_read(data_.get(), nullptr, 0) < 0) {
+      drop("lost the connection to gpsd at " + p_.host + ":" + p_.port, now);
+      return false;
+    }
+    node_.on_gps(*data_, now);
+  }
+  return true;
+}
+
+void GpsdClient::drop(const std::string& why, TimeUs now) {
+  if (open_) {
+    ex_->remove_fd(data_->gps_fd);
+    ::gps_close(data_.get());
+    open_ = false;
+  }
+  if (why != said_) std::fprintf(stderr, "tiller-gnss: %s; retrying\n", why.c_str());
+  said_ = why;
+  node_.set_link(why, now);
+}
+
+void GpsdClient::on_timer(TimeUs now) {
+  std::uint64_t n = 0;
+  while (::read(timer_fd_, &n, sizeof n) > 0) {
+  }
+  if (!open_) connect(now);
+}
+
+}  // namespace tiller::sensors
