@@ -38,7 +38,7 @@ int main(int argc, char** argv) {
           "retried every cycle\n",
           stderr);
     }
-    LiveExecutor ex(args.lcm_url);
+    LiveExecutor ex(args.lcm_url, args.auth);
     ex.add(node);
     return ex.run();
   });

@@ -12,6 +12,7 @@
 #include "launch/plan.hpp"
 #include "launch/posix_host.hpp"
 #include "launch/run.hpp"
+#include "launch/signing.hpp"
 #include "runtime/app.hpp"
 #include "runtime/live.hpp"
 
@@ -86,6 +87,19 @@ int run(int argc, char** argv) {
     std::cerr << "tiller-launch: " << e.what() << "\n";
     return kExitUsage;
   }
+  // Every child gets the LCM URL and the signing settings; the key is checked now, before
+  // anything starts (docs/safety.md, "Who may command").
+  std::map<std::string, std::string> child_env{{"LCM_DEFAULT_URL", plan.lf.lcm_url}};
+  try {
+    if (args.explicitly("require-signed")) plan.lf.require_signed = true;
+    const auto env = signing_env(plan.lf, {{"ROOT", plan.lf.root}},
+                                 args.explicitly("key-file") ? args.auth.key_file : "", std::cout);
+    child_env.insert(env.begin(), env.end());
+    plan.signing = signing_summary(plan.lf, env);
+  } catch (const std::exception& e) {
+    std::cerr << "tiller-launch: " << e.what() << "\n";
+    return kExitUsage;
+  }
   const LaunchFile& lf = plan.lf;
   std::size_t width = 6;
   for (const auto& p : plan.procs) width = std::max(width, p.name.size());
@@ -93,7 +107,7 @@ int run(int argc, char** argv) {
                                                 {"ROOT", lf.root},
                                                 {"LOG_FILE", plan.log_file},
                                                 {"LAUNCH_NAME", lf.name}};
-  PosixHost host(lf.root, vars, {self_dir()}, {{"LCM_DEFAULT_URL", lf.lcm_url}}, stdout, width);
+  PosixHost host(lf.root, vars, {self_dir()}, child_env, stdout, width);
   if (!check_programs(plan, host, std::cerr)) return kExitUsage;
   if (args.flag("check")) {
     print_check(std::cout, plan, host);

@@ -69,7 +69,7 @@ int main(int argc, char** argv) {
     const app::Args a = app::parse(argc, argv, spec);
     const auto& p = a.positional;
     if (p.size() == 4 && p[0] == "wait")
-      return logtools::wait_live(a.lcm_url, wait_spec(a), stdout);
+      return logtools::wait_live(a.lcm_url, wait_spec(a), stdout, a.auth);
     if (p.size() == 2 && p[0] == "summary") {
       std::cout << p[1] << ": "
                 << logtools::format_summary(logtools::summarize(logtools::read_any_log(p[1])));

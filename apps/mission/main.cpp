@@ -81,7 +81,7 @@ int main(int argc, char** argv) {
                   << command << "'\n";
         return 2;
       }
-      LiveExecutor ex(args.lcm_url);
+      LiveExecutor ex(args.lcm_url, args.auth);
       c.utime = wall_time_us();
       c.command_id = c.utime;
       c.source = "tiller-mission";
@@ -110,7 +110,7 @@ int main(int argc, char** argv) {
     if (id < 0) id = wall_time_us();
     std::cout << "tiller-mission: " << m.name << ": " << m.waypoints.size()
               << " waypoints, path_id " << id << "\n";
-    LiveExecutor ex(args.lcm_url);
+    LiveExecutor ex(args.lcm_url, args.auth);
     // Once: the first tick publishes everything; the period is long enough not to repeat.
     const TimeUs period = repeat > 0 ? from_seconds(repeat) : from_seconds(wait + 3600);
     mission::MissionNode node(m, id, period, !args.flag("no-arm"));

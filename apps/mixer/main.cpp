@@ -22,7 +22,7 @@ int main(int argc, char** argv) {
       std::cout << node.allocator().describe() << "\n";
       return 0;
     }
-    LiveExecutor ex(args.lcm_url);
+    LiveExecutor ex(args.lcm_url, args.auth);
     ex.add(node);
     return ex.run();
   });

@@ -20,7 +20,7 @@ int main(int argc, char** argv) {
     const auto params = guidance::load_follower_node_params(root);
     root.check_all_used();
     guidance::PathFollowerNode node(params);
-    LiveExecutor ex(args.lcm_url);
+    LiveExecutor ex(args.lcm_url, args.auth);
     ex.add(node);
     return ex.run();
   });

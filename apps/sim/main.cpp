@@ -88,7 +88,7 @@ int main(int argc, char** argv) {
                  node.vehicle().name.c_str(), p.vehicle_file.c_str(),
                  node.vehicle().thrusters.size(), to_seconds(p.step_us) * 1e3,
                  1.0 / to_seconds(p.odometry_period_us));
-    LiveExecutor ex(args.lcm_url);
+    LiveExecutor ex(args.lcm_url, args.auth);
     ex.add(node);
     return ex.run();
   });

@@ -16,7 +16,7 @@ int main(int argc, char** argv) {
   return app::guarded_main("tiller-station-keep", [&] {
     const auto root = config::Value::load_file(args.config);
     control::StationKeepNode node(control::load_station_keep_node_params(root));
-    LiveExecutor ex(args.lcm_url);
+    LiveExecutor ex(args.lcm_url, args.auth);
     ex.add(node);
     return ex.run();
   });

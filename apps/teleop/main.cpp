@@ -20,7 +20,7 @@ int main(int argc, char** argv) {
     if (!args.get("device").empty()) p.device_path = args.get("device");
     const bool replay = args.flag("replay");
     TeleopNode node(p, replay ? TeleopNode::Input::replay : TeleopNode::Input::device);
-    LiveExecutor ex(args.lcm_url);
+    LiveExecutor ex(args.lcm_url, args.auth);
     ex.add(node);
     if (replay) return ex.run();
     JsDevice device(p.device_path, p.device_name);

@@ -17,7 +17,7 @@ int main(int argc, char** argv) {
   return app::guarded_main("tiller-velocity-pid", [&] {
     const auto root = config::Value::load_file(args.config);
     control::VelocityPidNode node(control::load_velocity_pid_node_params(root));
-    LiveExecutor ex(args.lcm_url);
+    LiveExecutor ex(args.lcm_url, args.auth);
     ex.add(node);
     return ex.run();
   });

@@ -83,6 +83,16 @@ EscConfig load_esc_config(const config::Value& root) {
   c.node.write_on_command = root.boolean_or("write_on_command", true);
   c.node.min_write_interval_us =
       from_seconds(root.number_or("min_write_interval_ms", 2, {0, 1000}) / 1000.0);
+  if (auto v = root.find("command_senders")) {
+    c.node.command_senders.clear();
+    for (const auto& item : v->items()) {
+      const std::string name = item.as_string();
+      if (name.empty() || name.size() > 16)
+        item.fail("a node name of 1 to 16 characters (the sender in a signed message)");
+      c.node.command_senders.push_back(name);
+    }
+    if (c.node.command_senders.empty()) v->fail("a list of at least one sender, e.g. [mixer]");
+  }
   c.node.missing_esc = root.choice_or("missing_esc", "refuse", {"refuse", "degraded"}) == "refuse"
                            ? MissingEscPolicy::kRefuse
                            : MissingEscPolicy::kDegraded;

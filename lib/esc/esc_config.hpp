@@ -5,7 +5,8 @@
 // vehicle file (the one place a thruster is reversed, see docs/escs-and-wiring.md). Keys:
 //   vehicle, backend (i2c_tgy | pca9685 | sim | dry_run), rate_hz, command_timeout_ms,
 //   disarm_on_timeout, arm_neutral_tolerance, missing_esc (refuse | degraded),
-//   write_on_command, min_write_interval_ms,
+//   write_on_command, min_write_interval_ms, command_senders ([mixer]: the signed senders whose
+//   TILLER_THRUSTER_COMMAND is accepted, see docs/safety.md "Who may command"),
 //   i2c_tgy: {bus, telemetry, motor_poles}
 //   pca9685: {bus, address, pwm_hz, oscillator_hz, oscillator_calibration, external_clock_hz,
 //             output (totem_pole | open_drain), min_us, neutral_us, max_us}
@@ -44,6 +45,9 @@ struct EscNodeParams {
   // min_write_interval_us, so a burst of commands cannot flood the bus.
   bool write_on_command = true;
   TimeUs min_write_interval_us = 2'000;
+  // Signed senders (node names) whose thruster commands are accepted; with a signing key the
+  // live executor refuses any other (runtime/node.hpp accept_only_from).
+  std::vector<std::string> command_senders{"mixer"};
 };
 
 struct DryRunParams {

@@ -50,6 +50,9 @@ EscNode::EscNode(esc::EscNodeParams p, std::unique_ptr<esc::EscBackend> backend)
       hw_(n_, 0) {
   subscribe(channels::kThrusterCommand, &EscNode::on_command);
   subscribe(channels::kArmRequest, &EscNode::on_arm_request);
+  // Thrust commands only from the mixer (config: command_senders): enforced by the transport
+  // when signing is on (docs/safety.md, "Who may command").
+  accept_only_from(channels::kThrusterCommand, p.command_senders);
   advertise<arm_state_t>(channels::kArmState);
   advertise<esc_output_t>(channels::kEscOutput);
   advertise<esc_bus_status_t>(channels::kEscStatus);

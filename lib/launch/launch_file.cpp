@@ -103,6 +103,15 @@ LaunchFile load_launch(const config::Value& root, const std::string& file_dir) {
     lf.logger.rotate = static_cast<int>(l->integer_or("rotate", 0, 0, 1000));
   }
 
+  lf.key_file = root.string_or("key_file", "");
+  if (root.has("key_file")) lf.key_file_line = root.at("key_file").line();
+  lf.require_signed = root.boolean_or("require_signed", false);
+  lf.auth_window_s = root.number_or("auth_window_s", 1.0, {0.001, 3600.0});
+  lf.create_key = root.boolean_or("create_key", false);
+  if (lf.require_signed && lf.key_file.empty())
+    root.at("require_signed").fail("key_file: FILE as well (require_signed needs a key)");
+  if (lf.create_key && lf.key_file.empty()) root.at("create_key").fail("key_file: FILE as well");
+
   const config::Value procs = root.at("processes");
   if (!procs.is_sequence() || procs.size() == 0) procs.fail("a non-empty sequence of processes");
   std::vector<ProcessSpec> in_file;

@@ -9,6 +9,11 @@
 //   grace_s: 3                  # SIGTERM -> SIGKILL delay when stopping
 //   ends_with: mission          # the run ends when this process exits (its exit code decides)
 //   logger: {enabled: true, dir: logs, channels: ".*", split_mb: 0, rotate: 0}
+//   key_file: ${TILLER_KEY_FILE:-keys/sim.key}  # the vehicle's signing key (relative to root);
+//                               # children get it as TILLER_KEY_FILE (docs/safety.md)
+//   require_signed: true        # children refuse unsigned input (TILLER_REQUIRE_SIGNED=1)
+//   auth_window_s: 1            # replay window (TILLER_AUTH_WINDOW_S)
+//   create_key: false           # true (simulator files only): make key_file if it is missing
 //   processes:
 //     - name: sim
 //       command: tiller-sim      # looked up next to tiller-launch first, then on PATH
@@ -78,6 +83,13 @@ struct LaunchFile {
   double grace_s = 3.0;
   std::string ends_with;  // process name, or empty
   LoggerSpec logger;
+  // Message signing (docs/safety.md, "Who may command"). key_file as written (${VAR}
+  // substituted when the run starts, then relative to root); line numbers for messages.
+  std::string key_file;
+  bool require_signed = false;
+  double auth_window_s = 1.0;
+  bool create_key = false;
+  int key_file_line = 0;
   std::vector<ProcessSpec> processes;  // in start order (dependencies first, then file order)
 };
 

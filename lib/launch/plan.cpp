@@ -126,7 +126,7 @@ void write_manifest(std::ostream& m, const Plan& plan, const PosixHost& host) {
 void print_check(std::ostream& out, const Plan& plan, const PosixHost& host) {
   const LaunchFile& lf = plan.lf;
   out << lf.path << ": " << lf.name << " (" << lf.description << ")\n  root " << lf.root
-      << "\n  lcm  " << lf.lcm_url
+      << "\n  lcm  " << lf.lcm_url << (plan.signing.empty() ? "" : "\n  " + plan.signing)
       << "\n  ends with: " << (lf.ends_with.empty() ? "(Ctrl-C)" : lf.ends_with) << "\n";
   for (const auto& p : plan.procs) {
     const auto argv = host.argv_of(p);

@@ -31,6 +31,7 @@ struct Plan {
   std::vector<std::string> held_back;  // "name (autostart: false; start it with ...)"
   bool log = false;
   std::string log_file;  // absolute when given relative; what lcm-logger is told
+  std::string signing;   // "signing: key FILE, ..." (launch/signing.hpp), printed with the plan
 };
 
 // Throws std::invalid_argument for an unknown group or process name (exit 2). `stamp` names a

@@ -56,8 +56,8 @@ int run_plan(const Plan& plan, PosixHost& host, const RunOptions& o) {
 
   auto note = [&](const std::string& s) { host.print("launch", s); };
   Supervisor sup(plan.procs, lf.ends_with, lf.grace_s, host, note);
-  host.print("launch",
-             lf.name + ": " + std::to_string(plan.procs.size()) + " processes, lcm " + lf.lcm_url);
+  host.print("launch", lf.name + ": " + std::to_string(plan.procs.size()) + " processes, lcm " +
+                           lf.lcm_url + (plan.signing.empty() ? "" : ", " + plan.signing));
   for (const auto& h : plan.held_back) host.print("launch", "not started: " + h);
   if (plan.log)
     host.print("launch", "log: " + plan.log_file + log_suffix(lf.logger) + " (replay manifest " +

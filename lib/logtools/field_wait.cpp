@@ -81,16 +81,23 @@ std::optional<std::string> FieldWait::progress_line(TimeUs now) {
   return s + "\n";
 }
 
-int wait_live(const std::string& lcm_url, const WaitSpec& spec, std::FILE* out) {
+int wait_live(const std::string& lcm_url, const WaitSpec& spec, std::FILE* out,
+              const auth::Policy& policy) {
   lcm::LCM lc(with_default_ttl(lcm_url));
   if (!lc.good()) throw std::runtime_error("cannot open LCM at " + lcm_url);
   FieldWait wait(spec, wall_time_us());
+  auth::Verifier verifier(policy);
   struct Handler {
     FieldWait* w;
-    void on(const lcm::ReceiveBuffer* rb, const std::string&) {
-      w->on_message(static_cast<const std::uint8_t*>(rb->data), rb->data_size, wall_time_us());
+    auth::Verifier* v;
+    void on(const lcm::ReceiveBuffer* rb, const std::string& channel) {
+      const auto* bytes = static_cast<const std::uint8_t*>(rb->data);
+      const TimeUs now = wall_time_us();
+      const auth::Checked c = v->check(channel, bytes, static_cast<int>(rb->data_size), now);
+      if (auth::accepted(c.verdict))
+        w->on_message(bytes, static_cast<std::size_t>(c.payload_size), now);
     }
-  } handler{&wait};
+  } handler{&wait, &verifier};
   lc.subscribe(spec.channel, &Handler::on, &handler);
   std::fputs(wait.start_line().c_str(), out);
   std::fflush(out);

@@ -9,6 +9,7 @@
 #include <optional>
 #include <string>
 
+#include "auth/verifier.hpp"
 #include "logtools/lcm_schema.hpp"
 #include "runtime/event.hpp"
 
@@ -45,7 +46,10 @@ class FieldWait {
 };
 
 // Subscribes to spec.channel on `lcm_url` (TTL 0 unless given) and prints the start line, the
-// progress lines and the verdict line to `out`; returns 0 when met, 1 on timeout.
-int wait_live(const std::string& lcm_url, const WaitSpec& spec, std::FILE* out);
+// progress lines and the verdict line to `out`; returns 0 when met, 1 on timeout. Signed
+// messages are checked under `policy` (auth/verifier.hpp) and their trailer stripped; refused
+// ones are ignored like undecodable ones.
+int wait_live(const std::string& lcm_url, const WaitSpec& spec, std::FILE* out,
+              const auth::Policy& policy = {});
 
 }  // namespace tiller::logtools

@@ -107,6 +107,54 @@ std::string resolve_path(const std::string& path) {
   return path;
 }
 
+namespace {
+// --key-file / --require-signed / --auth-window-s, or their variables: the signing policy.
+// A bad value or key file is a start-up error (exit 2) naming it.
+void load_auth(Args& a, const Spec& spec, const std::string& key_file, const std::string& require,
+               const std::string& window) {
+  auto fail = [&](const std::string& msg) {
+    std::cerr << spec.program << ": " << msg << "\n";
+    std::exit(2);
+  };
+  a.auth.raw_sender = spec.program.rfind("tiller-", 0) == 0 ? spec.program.substr(7) : spec.program;
+  if (a.auth.raw_sender.size() > 16) a.auth.raw_sender.resize(16);
+  if (require == "1" || require == "true") {
+    a.auth.require_signed = true;
+  } else if (!require.empty() && require != "0" && require != "false") {
+    fail("TILLER_REQUIRE_SIGNED: expected 1, true, 0 or false, got '" + require + "'");
+  }
+  if (!window.empty()) {
+    double w = NAN;
+    const auto [p, ec] = std::from_chars(window.data(), window.data() + window.size(), w);
+    if (ec != std::errc() || p != window.data() + window.size() || !std::isfinite(w) || w <= 0 ||
+        w > 3600)
+      fail(
+          "--auth-window-s / TILLER_AUTH_WINDOW_S: expected a number of seconds in (0, 3600], "
+          "got '" +
+          window + "'");
+    a.auth.window_us = static_cast<std::int64_t>(w * 1e6);
+  }
+  if (!key_file.empty()) {
+    try {
+      a.auth.key = auth::load_key_file(key_file);
+      a.auth.key_file = key_file;
+    } catch (const std::exception& e) {
+      fail(e.what());
+    }
+  }
+  if (a.auth.require_signed && !a.auth.key) {
+    fail(
+        "require_signed is on but no key file was given (--key-file FILE, TILLER_KEY_FILE or "
+        "the launch file's key_file; make one with tiller-key new FILE)");
+  }
+}
+
+std::string env_or_empty(const char* name) {
+  const char* v = std::getenv(name);
+  return v ? v : "";
+}
+}  // namespace
+
 Args parse(int argc, char** argv, const Spec& spec) {
   Args a;
   a.config = spec.default_config;
@@ -125,6 +173,9 @@ Args parse(int argc, char** argv, const Spec& spec) {
               << usage_line(spec) << "\n(" << spec.program << " --help lists the options)\n";
     std::exit(2);
   };
+  std::string key_file = env_or_empty("TILLER_KEY_FILE");
+  std::string require = env_or_empty("TILLER_REQUIRE_SIGNED");
+  std::string window = env_or_empty("TILLER_AUTH_WINDOW_S");
   for (int i = 1; i < argc; ++i) {
     std::string s = argv[i];
     std::string value;
@@ -153,6 +204,11 @@ Args parse(int argc, char** argv, const Spec& spec) {
       a.lcm_url = take();
       if (const std::string why = lcm_url_problem(a.lcm_url); !why.empty())
         bad("--lcm-url: expected " + why);
+    } else if (s == "--key-file" || s == "--require-signed" || s == "--auth-window-s") {
+      if (!spec.takes_lcm_url) bad(s + " is not taken: " + spec.program + " opens no LCM");
+      if (s == "--key-file") key_file = take();
+      if (s == "--require-signed") require = has_value ? value : "1";
+      if (s == "--auth-window-s") window = take();
     } else if (s.rfind("--", 0) == 0) {
       const std::string name = s.substr(2);
       bool known = false;
@@ -168,6 +224,7 @@ Args parse(int argc, char** argv, const Spec& spec) {
   }
   if (const std::string extra = extra_positional(spec, a.positional); !extra.empty()) bad(extra);
   a.config = resolve_path(a.config);
+  if (spec.takes_lcm_url) load_auth(a, spec, key_file, require, window);
   return a;
 }
 

@@ -12,6 +12,13 @@
 // --help prints one usage line ("Usage: tiller-plot [options] LOG"), the summary, then each
 // option once with its value, unit or range in the help text and its default (when it has a
 // fixed one) shown once, from Option::default_value.
+//
+// Message signing (docs/safety.md, "Who may command"): a program that opens LCM also takes
+//   --key-file FILE      the vehicle's key (default: $TILLER_KEY_FILE), checked at start-up: a
+//                        missing, malformed or group/world-readable file is exit 2 naming it
+//   --require-signed     refuse unsigned input (default: $TILLER_REQUIRE_SIGNED = 1/true/0/false)
+//   --auth-window-s S    replay window (default: $TILLER_AUTH_WINDOW_S, else 1)
+// tiller-launch sets the three variables from the launch file for every process.
 #pragma once
 
 #include <cstdint>
@@ -20,6 +27,8 @@
 #include <set>
 #include <string>
 #include <vector>
+
+#include "auth/verifier.hpp"
 
 namespace tiller::app {
 
@@ -54,6 +63,7 @@ struct Args {
   std::map<std::string, std::string> values;  // program-specific options (flags: "1")
   std::vector<std::string> positional;
   std::set<std::string> given;  // options named on the command line ("config", "lcm-url", ...)
+  auth::Policy auth;            // signing: key loaded and checked, require_signed, window
   const std::string& get(const std::string& name) const;
   bool flag(const std::string& name) const;
   // True when --NAME was on the command line (not just its default).

@@ -12,6 +12,7 @@
 #include <cstdio>
 #include <cstring>
 #include <limits>
+#include <optional>
 #include <stdexcept>
 
 namespace tiller {
@@ -34,20 +35,34 @@ std::string with_default_ttl(const std::string& url) {
   return url + (url.find('?') == std::string::npos ? "?ttl=0" : "&ttl=0");
 }
 
+// One per node (and one for publish_raw): with a key, signs every message as its sender.
 class LiveExecutor::LcmBus : public Bus {
  public:
-  explicit LcmBus(lcm::LCM& l) : lcm_(l) {}
+  LcmBus(lcm_t* l, const auth::Policy& policy, std::string_view sender) : lcm_(l) {
+    if (policy.key) signer_.emplace(*policy.key, sender);
+  }
   void publish(std::string_view channel, const std::uint8_t* data, int size) override {
     channel_.assign(channel);  // reused: no allocation once long enough
-    lcm_.publish(channel_, data, static_cast<unsigned>(size));
+    if (!signer_) {
+      lcm_publish(lcm_, channel_.c_str(), data, static_cast<unsigned>(size));
+      return;
+    }
+    const auto n = static_cast<std::size_t>(size) + auth::kTrailerSize;
+    if (buf_.size() < n) buf_.resize(n);  // grows to the largest message once
+    if (size > 0) std::memcpy(buf_.data(), data, static_cast<std::size_t>(size));
+    signer_->sign(channel, data, size, wall_time_us(), buf_.data() + size);
+    lcm_publish(lcm_, channel_.c_str(), buf_.data(), static_cast<unsigned>(n));
   }
 
  private:
-  lcm::LCM& lcm_;
+  lcm_t* lcm_;
+  std::optional<auth::Signer> signer_;
   std::string channel_;
+  std::vector<std::uint8_t> buf_;
 };
 
-LiveExecutor::LiveExecutor(const std::string& url) {
+LiveExecutor::LiveExecutor(const std::string& url, auth::Policy policy)
+    : verifier_(std::move(policy)) {
   // Handlers go in first: a SIGINT/SIGTERM that arrives while the program is still starting is
   // remembered, and run() then returns at once after every node's shutdown() (ESCs to neutral).
   struct sigaction sa {};
@@ -62,7 +77,8 @@ LiveExecutor::LiveExecutor(const std::string& url) {
                              "' (no multicast route? try: ip route add 224.0.0.0/4 dev lo, see "
                              "docs/troubleshooting.md)");
   }
-  bus_ = std::make_unique<LcmBus>(*lcm_);
+  raw_bus_ = std::make_unique<LcmBus>(lcm_->getUnderlyingLCM(), verifier_.policy(),
+                                      verifier_.policy().raw_sender);
 }
 
 LiveExecutor::~LiveExecutor() {
@@ -70,8 +86,26 @@ LiveExecutor::~LiveExecutor() {
 }
 
 void LiveExecutor::add(Node& node) {
-  node.attach(bus_.get());
+  buses_.push_back(
+      std::make_unique<LcmBus>(lcm_->getUnderlyingLCM(), verifier_.policy(), node.name()));
+  node.attach(buses_.back().get());
   nodes_.push_back(&node);
+  // The node's refusal counters, made now so that receiving allocates nothing.
+  NodeAuth na;
+  if (verifier_.policy().enabled()) {
+    for (int v = 0; v < auth::kVerdicts; ++v) {
+      const auto verdict = static_cast<auth::Verdict>(v);
+      if (auth::accepted(verdict)) continue;
+      na.refused[static_cast<std::size_t>(v)] =
+          &node.executor_counter(std::string("rejected.auth.") + auth::to_string(verdict));
+    }
+  }
+  if (verifier_.policy().key) {
+    for (const auto& ch : node.subscribed_channels()) {
+      if (node.allowed_senders(ch)) na.sender = &node.executor_counter("rejected.auth.sender");
+    }
+  }
+  node_auth_.push_back(na);
   next_tick_.push_back(node.next_tick_at_or_after(wall_time_us()));
   tick_failures_.push_back(0);
   for (const auto& ch : node.subscribed_channels()) {
@@ -98,8 +132,81 @@ void LiveExecutor::on_message(const lcm_recv_buf_t* rbuf, const char* channel, v
   auto* self = static_cast<LiveExecutor*>(user);
   const TimeUs now = wall_time_us();
   const std::string_view ch(channel);
-  // Node::deliver never throws: a handler's exception is caught, counted and latched there.
-  for (Node* n : self->nodes_) n->deliver(ch, rbuf->data, static_cast<int>(rbuf->data_size), now);
+  const auto* data = static_cast<const std::uint8_t*>(rbuf->data);
+  // Checked once for every node of the process, before any of them sees it (a stream's replay
+  // state advances once per message); deliver() gets the message without its trailer.
+  const auth::Checked c = self->verifier_.check(ch, data, static_cast<int>(rbuf->data_size), now);
+  const bool keyed = self->verifier_.policy().key.has_value();
+  for (std::size_t i = 0; i < self->nodes_.size(); ++i) {
+    Node& n = *self->nodes_[i];
+    if (!n.subscribes_to(ch)) continue;
+    if (!auth::accepted(c.verdict)) {
+      self->refuse(n, i, c, ch, now);
+      continue;
+    }
+    if (keyed) {
+      const auto* allowed = n.allowed_senders(ch);
+      if (allowed && (c.verdict != auth::Verdict::kSigned ||
+                      std::find(allowed->begin(), allowed->end(), c.sender) == allowed->end())) {
+        self->refuse_sender(n, i, c, ch);
+        continue;
+      }
+    }
+    // Node::deliver never throws: a handler's exception is caught, counted and latched there.
+    n.deliver(ch, data, c.payload_size, now);
+  }
+}
+
+namespace {
+const char* why(auth::Verdict v) {
+  switch (v) {
+    case auth::Verdict::kUnsigned:
+      return "it is not signed, and require_signed is on";
+    case auth::Verdict::kWrongKey:
+      return "it is signed with another key than this process's";
+    case auth::Verdict::kBadMac:
+      return "its signature does not verify (altered or forged)";
+    case auth::Verdict::kReplay:
+      return "it is not newer than the last one accepted from its sender on this channel (a "
+             "replay)";
+    case auth::Verdict::kWindow:
+      return "its time stamp is outside the window around this clock (an old capture, or the "
+             "computers' clocks are not in step)";
+    case auth::Verdict::kStreamsFull:
+      return "too many (sender, channel) streams to track";
+    default:
+      return "?";
+  }
+}
+}  // namespace
+
+void LiveExecutor::refuse(Node& n, std::size_t i, const auth::Checked& c, std::string_view channel,
+                          TimeUs now) {
+  const auto v = static_cast<std::size_t>(c.verdict);
+  if (std::int64_t* counter = node_auth_[i].refused[v]) n.count_transport_reject(*counter);
+  if (told_[v]) return;
+  told_[v] = true;
+  std::fprintf(stderr, "%s: refused a message on %.*s: %s", n.name().c_str(),
+               static_cast<int>(channel.size()), channel.data(), why(c.verdict));
+  if (c.stamp != 0) {
+    std::fprintf(stderr, " (stamp %+.3f s from this clock, window %.3f s)",
+                 to_seconds(c.stamp - now), to_seconds(verifier_.policy().window_us));
+  }
+  std::fprintf(stderr, "; counted in rejected.auth.%s (said once)\n", auth::to_string(c.verdict));
+}
+
+void LiveExecutor::refuse_sender(Node& n, std::size_t i, const auth::Checked& c,
+                                 std::string_view channel) {
+  if (node_auth_[i].sender) n.count_transport_reject(*node_auth_[i].sender);
+  if (told_[auth::kVerdicts]) return;
+  told_[auth::kVerdicts] = true;
+  const bool known = c.verdict == auth::Verdict::kSigned;
+  std::fprintf(stderr,
+               "%s: refused a message on %.*s from %s%.*s%s: this node accepts it only from its "
+               "declared senders; counted in rejected.auth.sender (said once)\n",
+               n.name().c_str(), static_cast<int>(channel.size()), channel.data(),
+               known ? "'" : "an unsigned sender", static_cast<int>(c.sender.size()),
+               c.sender.data(), known ? "'" : "");
 }
 
 void LiveExecutor::stop() {
@@ -107,7 +214,7 @@ void LiveExecutor::stop() {
 }
 
 void LiveExecutor::publish_raw(const std::string& channel, const void* data, int size) {
-  lcm_->publish(channel, data, static_cast<unsigned>(size));
+  raw_bus_->publish(channel, static_cast<const std::uint8_t*>(data), size);
 }
 
 int LiveExecutor::finish(int status) {

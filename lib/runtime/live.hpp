@@ -14,8 +14,18 @@
 //     "exception.fd"), FAULT; after kMaxConsecutiveFailures in a row from one node's tick (or
 //     from fd callbacks) run() prints the reason and returns kExitFault (3);
 //   * poll() failing other than EINTR: prints the reason and returns kExitFault.
+//
+// Message signing (auth/trailer.hpp, docs/safety.md "Who may command") is this transport's
+// job, so node logic never sees it. With a key (auth::Policy), every message a node publishes
+// leaves with a trailer naming that node as the sender; every received message is checked
+// (auth/verifier.hpp) before any node sees it, and the trailer is stripped, so Node::deliver
+// gets exactly the LCM message. A refused message is counted in each subscribing node's
+// heartbeat as "rejected.auth.<verdict>" (unsigned, wrong_key, bad_mac, replay, window,
+// streams_full), and a node's accept_only_from rule refuses other senders as
+// "rejected.auth.sender"; the first refusal of each kind is also one line on stderr.
 #pragma once
 
+#include <array>
 #include <atomic>
 #include <functional>
 #include <list>
@@ -23,6 +33,7 @@
 #include <string>
 #include <vector>
 
+#include "auth/verifier.hpp"
 #include "runtime/node.hpp"
 
 namespace lcm {
@@ -45,7 +56,10 @@ class LiveExecutor {
   static constexpr int kMaxConsecutiveFailures = 3;
 
   // Opens LCM at `url`; throws std::runtime_error with a clear message if it cannot.
-  explicit LiveExecutor(const std::string& url);
+  explicit LiveExecutor(const std::string& url) : LiveExecutor(url, auth::Policy{}) {}
+  // With a signing policy (a key: sign and verify; require_signed: refuse unsigned input).
+  // Throws std::runtime_error for require_signed without a key.
+  LiveExecutor(const std::string& url, auth::Policy policy);
   ~LiveExecutor();
 
   void add(Node& node);
@@ -57,7 +71,9 @@ class LiveExecutor {
   int run();
   void stop();  // thread-safe: run() returns within 100 ms
   // Publishes raw bytes (for tools that are not nodes).
+  // Publishes raw bytes (for tools that are not nodes), signed as the policy's raw_sender.
   void publish_raw(const std::string& channel, const void* data, int size);
+  const auth::Policy& policy() const { return verifier_.policy(); }
 
  private:
   class LcmBus;
@@ -65,12 +81,24 @@ class LiveExecutor {
     int fd;
     std::function<void(TimeUs)> cb;
   };
+  // Per node: its counters for refused messages (created in add(), so receiving allocates
+  // nothing).
+  struct NodeAuth {
+    std::array<std::int64_t*, auth::kVerdicts> refused{};
+    std::int64_t* sender = nullptr;
+  };
   static void on_message(const lcm_recv_buf_t* rbuf, const char* channel, void* self);
+  void refuse(Node& n, std::size_t i, const auth::Checked& c, std::string_view channel, TimeUs now);
+  void refuse_sender(Node& n, std::size_t i, const auth::Checked& c, std::string_view channel);
   int finish(int status);
 
   std::unique_ptr<lcm::LCM> lcm_;
-  std::unique_ptr<LcmBus> bus_;
+  auth::Verifier verifier_;
+  std::unique_ptr<LcmBus> raw_bus_;             // publish_raw
+  std::vector<std::unique_ptr<LcmBus>> buses_;  // one per node: signs as that node
   std::vector<Node*> nodes_;
+  std::vector<NodeAuth> node_auth_;
+  std::array<bool, auth::kVerdicts + 1> told_{};  // first refusal of each kind printed
   std::vector<TimeUs> next_tick_;
   std::vector<int> tick_failures_;  // consecutive failed ticks per node
   std::vector<std::string> subscribed_;

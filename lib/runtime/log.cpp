@@ -1,5 +1,7 @@
 #include "runtime/log.hpp"
 
+#include "auth/trailer.hpp"
+
 #include <lcm/lcm-cpp.hpp>
 
 #include <stdexcept>
@@ -16,8 +18,10 @@ std::vector<Event> read_log(const std::string& path, const std::string& channel_
     Event e;
     e.channel = ev->channel;
     e.time = ev->timestamp;
+    // A signed message's trailer is not part of the message: logs read as the nodes saw them
+    // (auth/trailer.hpp). Not verified here: a log is a record, not a command.
     const auto* p = static_cast<const std::uint8_t*>(ev->data);
-    e.data.assign(p, p + ev->datalen);
+    e.data.assign(p, p + auth::payload_size(p, ev->datalen));
     out.push_back(std::move(e));
   }
   return out;

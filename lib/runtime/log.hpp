@@ -16,6 +16,7 @@ class LogFile;
 namespace tiller {
 
 // Reads every event of a log (optionally only channels matching `channel_regex`, anchored).
+// Signed messages come back without their trailer (auth/trailer.hpp), as nodes receive them.
 // Throws std::runtime_error naming the file if it cannot be opened.
 std::vector<Event> read_log(const std::string& path, const std::string& channel_regex = ".*");
 

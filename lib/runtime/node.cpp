@@ -3,6 +3,7 @@
 #include <algorithm>
 #include <cctype>
 #include <exception>
+#include <stdexcept>
 
 #include "runtime/channels.hpp"
 #include "runtime/heartbeat_name.hpp"
@@ -57,6 +58,24 @@ bool Node::advertises(std::string_view channel) const {
   for (const auto& a : adverts_)
     if (a.channel == channel) return true;
   return false;
+}
+
+const std::vector<std::string>* Node::allowed_senders(std::string_view channel) const {
+  const SubscriptionBase* s = find_sub(channel);
+  return (s && !s->senders.empty()) ? &s->senders : nullptr;
+}
+
+void Node::accept_only_from(std::string_view channel, std::vector<std::string> senders) {
+  SubscriptionBase* s = find_sub(channel);
+  if (!s) {
+    throw std::logic_error(name_ + ": accept_only_from(" + std::string(channel) +
+                           ") before subscribing to it");
+  }
+  if (senders.empty()) {
+    throw std::invalid_argument(name_ + ": accept_only_from(" + std::string(channel) +
+                                ") needs at least one sender");
+  }
+  s->senders = std::move(senders);
 }
 
 Node::SubscriptionBase* Node::find_sub(std::string_view channel) const {

@@ -69,6 +69,9 @@ class Node {
   std::string subscribed_type(std::string_view channel) const;
   std::string published_type(std::string_view channel) const;
   bool subscribes_to(std::string_view channel) const { return find_sub(channel) != nullptr; }
+  // The senders this node accepts on `channel` (see accept_only_from), or nullptr when any
+  // sender the transport accepts will do (also for a channel it does not subscribe to).
+  const std::vector<std::string>* allowed_senders(std::string_view channel) const;
   bool advertises(std::string_view channel) const;
   // Decodes and dispatches one message. Never throws; a bad packet is counted. Looks the channel
   // up without building a string (no allocation).
@@ -85,6 +88,14 @@ class Node {
   // True once any exception was caught for this node (its heartbeat says STATE_FAULT).
   bool faulted() const { return faulted_; }
   const std::string& fault_status() const { return fault_status_; }
+  // Executor side: a named counter (created on first use; create it before the hot path) and a
+  // message the transport refused for this node, counted there, in received and in rejected
+  // (e.g. "rejected.auth.bad_mac": see runtime/live.hpp).
+  std::int64_t& executor_counter(const std::string& name) { return counter(name); }
+  void count_transport_reject(std::int64_t& reason) {
+    ++received_;
+    reject(reason);
+  }
   // Executor side: publishes a heartbeat now, whether or not one is due (the live executor's
   // last word before it stops a faulted process).
   void publish_heartbeat_now(TimeUs now) { publish_heartbeat(now); }
@@ -108,6 +119,14 @@ class Node {
   // so steady-state delivery does not allocate).
   template <class Msg, class Derived>
   void subscribe(const std::string& channel, void (Derived::*handler)(const Msg&, TimeUs));
+
+  // Declares that this node accepts messages on `channel` (already subscribed) only from these
+  // senders: the names in the signed-message trailer (auth/trailer.hpp), i.e. the publishing
+  // nodes' names. The live executor enforces it whenever the process has a signing key
+  // (unsigned and other senders' messages are refused, counted in "rejected.auth.sender");
+  // without a key there is no identity to check and the rule is reported, not enforced.
+  // Example: tiller-esc accepts TILLER_THRUSTER_COMMAND only from "mixer".
+  void accept_only_from(std::string_view channel, std::vector<std::string> senders);
 
   // Declares that this node publishes Msg on `channel` (call in the constructor).
   template <class Msg>
@@ -140,6 +159,7 @@ class Node {
     std::string channel;
     const char* type = "";
     std::int64_t* malformed = nullptr;
+    std::vector<std::string> senders;  // empty: any sender
   };
   struct Advert {
     std::string channel;

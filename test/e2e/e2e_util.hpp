@@ -36,15 +36,21 @@ inline void sleep_ms(double ms) {
   std::this_thread::sleep_for(std::chrono::microseconds(static_cast<std::int64_t>(ms * 1000)));
 }
 
-// A child process; SIGTERM on destruction; dies with its parent (PDEATHSIG).
+// A child process; SIGTERM on destruction; dies with its parent (PDEATHSIG). Its stdout goes to
+// /dev/null (quiet) or is inherited; with `out_file`, stdout and stderr go to that file.
 class Proc {
  public:
-  Proc(const std::string& exe, const std::vector<std::string>& args, bool quiet = true) {
+  Proc(const std::string& exe, const std::vector<std::string>& args, bool quiet = true,
+       const std::string& out_file = "") {
     pid_ = fork();
     if (pid_ < 0) throw std::runtime_error("fork failed");
     if (pid_ == 0) {
       prctl(PR_SET_PDEATHSIG, SIGKILL);
-      if (quiet) {
+      if (!out_file.empty()) {
+        const int o = ::open(out_file.c_str(), O_WRONLY | O_CREAT | O_TRUNC, 0644);
+        dup2(o, 1);
+        dup2(o, 2);
+      } else if (quiet) {
         const int n = ::open("/dev/null", O_WRONLY);
         dup2(n, 1);
       }

@@ -490,6 +490,16 @@ namespace {
 // every config/... path in its arguments names a file in the tree.
 TEST(LaunchFiles, EveryShippedFileChecksAndNamesExistingFiles) {
   const std::string root = TILLER_SOURCE_DIR;
+  // Real-vehicle files need their key (/etc/tiller/vehicle.key): give them one, as an operator
+  // would with TILLER_KEY_FILE (and the simulator files then do not make keys/sim.key).
+  const fs::path key =
+      fs::temp_directory_path() / ("tiller-launch-key-" + std::to_string(::getpid()));
+  fs::remove(key);
+  ASSERT_EQ(
+      std::system((std::string(TILLER_BIN_DIR) + "/tiller-key new " + key.string() + " > /dev/null")
+                      .c_str()),
+      0);
+  ::setenv("TILLER_KEY_FILE", key.c_str(), 1);
   int n = 0;
   for (const auto& e : fs::directory_iterator(root + "/config/launch")) {
     if (e.path().extension() != ".yaml") continue;
@@ -508,7 +518,19 @@ TEST(LaunchFiles, EveryShippedFileChecksAndNamesExistingFiles) {
     const std::string cmd = std::string(TILLER_BIN_DIR) + "/tiller-launch --check " +
                             e.path().string() + " > /dev/null";
     EXPECT_EQ(std::system(cmd.c_str()), 0);
+    // Who may command: every shipped file signs; real-vehicle files and the main job's refuse
+    // unsigned input (docs/safety.md).
+    EXPECT_FALSE(lf.key_file.empty());
+    const std::string base = e.path().filename().string();
+    if (base.rfind("real_", 0) == 0 || base == "sim_usv_mission.yaml") {
+      EXPECT_TRUE(lf.require_signed);
+    }
+    if (base.rfind("real_", 0) == 0) {
+      EXPECT_FALSE(lf.create_key) << "a real vehicle never makes its own key";
+    }
   }
+  ::unsetenv("TILLER_KEY_FILE");
+  fs::remove(key);
   EXPECT_GE(n, 5);
 }
 

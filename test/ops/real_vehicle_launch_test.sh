@@ -6,7 +6,9 @@
 # every process comes up (logger, esc, mixer running; no teleop on the vehicle computer),
 # the dry run prints the neutral writes (seed 000: throttle 0 to each BlueESC; seed 001: 1500 us,
 # 0x0133 counts, on each PCA9685 channel), the log rotates under its fixed name with a replay
-# manifest, and SIGTERM stops everything (exit 0, no process of the run left).
+# manifest, and SIGTERM stops everything (exit 0, no process of the run left). The vehicle key
+# comes from TILLER_KEY_FILE (a fresh one, made with tiller-key), and every process says it
+# signs and refuses unsigned input; without a key file the launch stops at once (exit 2).
 # Args: SOURCE_DIR BUILD_DIR
 set -u
 src="$1"; bin="$2/bin"
@@ -15,6 +17,9 @@ tmp=$(mktemp -d)
 launcher=""
 trap '[ -n "$launcher" ] && kill -KILL "$launcher" 2>/dev/null; rm -rf "$tmp"' EXIT
 fail=0
+"$bin/tiller-key" new "$tmp/vehicle.key" > /dev/null || { echo "FAIL: tiller-key new"; exit 1; }
+TILLER_KEY_FILE="$tmp/vehicle.key"
+export TILLER_KEY_FILE
 
 # wait_for SECONDS COMMAND...: polls until COMMAND succeeds (a deadline, not a timing assertion).
 wait_for() {
@@ -28,6 +33,11 @@ all_running() {
     grep -Eq "^$p +[a-z]+ +running" "$2.now" || return 1
   done
 }
+
+# No key (the default /etc/tiller/vehicle.key is not there): refused before anything starts.
+out=$(TILLER_KEY_FILE="$tmp/none.key" "$bin/tiller-launch" config/launch/real_seed000_rov.yaml --no-log 2>&1); rc=$?
+[ $rc -eq 2 ] && echo "$out" | grep -q "key file '$tmp/none.key': No such file" ||
+  { echo "FAIL: a missing vehicle key gave exit $rc: $out"; fail=1; }
 
 for vehicle in seed000 seed001; do
   file=config/launch/real_${vehicle}_rov.yaml
@@ -44,6 +54,8 @@ for vehicle in seed000 seed001; do
   if ! wait_for 15 all_running "$file" "$dir/status"; then
     echo "FAIL: $file: not every process running:"; cat "$dir/status.now" 2>/dev/null; fail=1
   fi
+  grep -q "signing: key $tmp/vehicle.key, unsigned input refused" "$dir/out" ||
+    { echo "FAIL: $file: the launcher does not say it signs and refuses unsigned input"; fail=1; }
   # Neutral bus writes from the dry run.
   if [ $vehicle = seed000 ]; then
     for a in 29 2a 2b 2c; do

@@ -3,10 +3,13 @@
 // buffer, TILLER_THRUSTER_COMMAND, which lcm-cpp's callbacks would copy to the heap), ticks
 // and publishes, and after a warm-up not one operator new runs in this process while 2,000
 // messages come in. The stream comes from a child process over udpm, inside the private
-// network namespace of tools/netns-run.
+// network namespace of tools/netns-run. The same with message signing on (a key, require_signed):
+// every message is checked and every output signed, and unsigned ones among them are refused
+// and counted, still without an allocation.
 #include <gtest/gtest.h>
 #include <signal.h>
 #include <sys/wait.h>
+#include <time.h>
 #include <unistd.h>
 #include <lcm/lcm-cpp.hpp>
 
@@ -15,6 +18,7 @@
 #include <tiller/wrench_t.hpp>
 
 #include "alloc_count.hpp"
+#include "auth/trailer.hpp"
 #include "runtime/live.hpp"
 
 namespace tiller {
@@ -57,20 +61,45 @@ class Counting : public Node {
   std::int64_t base_rx_ = 0, end_rx_ = 0;
 };
 
-// The child: publishes odometry and a thruster command every millisecond until killed.
-[[noreturn]] void stream() {
+auth::Key test_key() {
+  auth::Key k;
+  for (std::size_t i = 0; i < k.bytes.size(); ++i) k.bytes[i] = static_cast<std::uint8_t>(3 * i);
+  k.id = auth::key_id(k.bytes);
+  return k;
+}
+
+// The child: publishes odometry and a thruster command every millisecond until killed; with a
+// signer, signed, plus an unsigned odometry every tenth time.
+template <class Msg>
+void send(lcm::LCM& l, const char* channel, const Msg& m, auth::Signer* signer) {
+  std::uint8_t buf[512];
+  const int n = m.encode(buf, 0, static_cast<int>(sizeof buf) - auth::kTrailerSize);
+  int size = n;
+  if (signer) {
+    timespec ts{};
+    clock_gettime(CLOCK_REALTIME, &ts);
+    signer->sign(channel, buf, n, ts.tv_sec * kUsPerSecond + ts.tv_nsec / 1000, buf + n);
+    size += auth::kTrailerSize;
+  }
+  l.publish(channel, buf, static_cast<unsigned>(size));
+}
+
+[[noreturn]] void stream(bool sign) {
   lcm::LCM l(kUrl);
   if (!l.good()) _exit(3);
+  auth::Signer signer(test_key(), "streamer");
+  auth::Signer* s = sign ? &signer : nullptr;
   odometry_t o{};
   thruster_command_t c{};
   c.n_thrusters = 2;
   c.names = {"port", "starboard"};
   c.command = {0.1, -0.1};
-  for (;;) {
+  for (int i = 0;; ++i) {
     o.utime += 1000;
     c.utime = o.utime;
-    l.publish("TILLER_ODOMETRY", &o);
-    l.publish("TILLER_THRUSTER_COMMAND", &c);
+    send(l, "TILLER_ODOMETRY", o, s);
+    send(l, "TILLER_THRUSTER_COMMAND", c, s);
+    if (sign && i % 10 == 0) send(l, "TILLER_ODOMETRY", o, nullptr);
     usleep(1000);
   }
 }
@@ -81,7 +110,7 @@ TEST(LiveAllocation, ReceivingAllocatesNothingAfterWarmUp) {
   ex.add(node);
   const pid_t pid = fork();
   ASSERT_GE(pid, 0);
-  if (pid == 0) stream();
+  if (pid == 0) stream(false);
   const int status = ex.run();
   kill(pid, SIGKILL);
   waitpid(pid, nullptr, 0);
@@ -93,6 +122,33 @@ TEST(LiveAllocation, ReceivingAllocatesNothingAfterWarmUp) {
               node.end_allocs_ - node.base_allocs_);
   EXPECT_EQ(node.end_allocs_ - node.base_allocs_, 0);
   EXPECT_EQ(node.rejected(), 0);
+}
+
+TEST(LiveAllocation, SigningAndCheckingAllocateNothingAfterWarmUp) {
+  auth::Policy policy;
+  policy.key = test_key();
+  policy.require_signed = true;
+  LiveExecutor ex(kUrl, policy);
+  Counting node(ex);
+  ex.add(node);
+  const pid_t pid = fork();
+  ASSERT_GE(pid, 0);
+  if (pid == 0) stream(true);
+  const int status = ex.run();
+  kill(pid, SIGKILL);
+  waitpid(pid, nullptr, 0);
+  EXPECT_EQ(status, 0);
+  ASSERT_GE(node.base_allocs_, 0) << "warm-up never finished (received " << node.received() << ")";
+  ASSERT_GE(node.end_allocs_, 0) << "stream stopped (received " << node.received() << ")";
+  std::printf("signed: %lld messages after warm-up, %ld heap allocations, %lld unsigned refused\n",
+              static_cast<long long>(node.end_rx_ - node.base_rx_),
+              node.end_allocs_ - node.base_allocs_,
+              static_cast<long long>(node.counter_value("rejected.auth.unsigned")));
+  EXPECT_EQ(node.end_allocs_ - node.base_allocs_, 0);
+  EXPECT_GT(node.counter_value("rejected.auth.unsigned"), 100);
+  EXPECT_EQ(node.rejected(), node.counter_value("rejected.auth.unsigned"));
+  EXPECT_EQ(node.counter_value("rejected.auth.replay"), 0);
+  EXPECT_EQ(node.counter_value("rejected.auth.bad_mac"), 0);
 }
 
 }  // namespace

@@ -1,0 +1,57 @@
+#include "launch/signing.hpp"
+
+#include <cstdio>
+#include <filesystem>
+#include <stdexcept>
+
+#include "auth/key.hpp"
+
+namespace tiller::launch {
+
+std::map<std::string, std::string> signing_env(const LaunchFile& lf,
+                                               const std::map<std::string, std::string>& vars,
+                                               const std::string& key_file_override,
+                                               std::ostream& out) {
+  namespace fs = std::filesystem;
+  const std::string where = lf.path + ":" + std::to_string(lf.key_file_line) + ": key_file: ";
+  std::string key = key_file_override;
+  try {
+    if (key.empty()) key = substitute(lf.key_file, vars);
+  } catch (const std::exception& e) {
+    throw std::runtime_error(where + e.what());
+  }
+  std::map<std::string, std::string> env;
+  char window[32];
+  std::snprintf(window, sizeof window, "%.6g", lf.auth_window_s);
+  env["TILLER_AUTH_WINDOW_S"] = window;
+  env["TILLER_REQUIRE_SIGNED"] = lf.require_signed ? "1" : "0";
+  if (key.empty()) return env;  // no signing in this run (require_signed needs a key_file)
+  if (key[0] != '/') key = (fs::path(lf.root) / key).lexically_normal().string();
+  try {
+    if (lf.create_key && key_file_override.empty() && !fs::exists(key)) {
+      fs::create_directories(fs::path(key).parent_path());
+      try {
+        const auth::Key k = auth::generate_key();
+        auth::write_key_file(key, k, false);
+        out << "tiller-launch: made a new signing key " << key << " (id " << auth::key_id_hex(k.id)
+            << "; create_key: true)\n";
+      } catch (const std::runtime_error&) {
+        if (!fs::exists(key)) throw;  // another run made it first: use that one
+      }
+    }
+    auth::load_key_file(key);
+  } catch (const std::exception& e) {
+    throw std::runtime_error(where + e.what());
+  }
+  env["TILLER_KEY_FILE"] = key;
+  return env;
+}
+
+std::string signing_summary(const LaunchFile& lf, const std::map<std::string, std::string>& env) {
+  const auto k = env.find("TILLER_KEY_FILE");
+  if (k == env.end()) return "signing: off (no key_file)";
+  return "signing: key " + k->second +
+         (lf.require_signed ? ", unsigned input refused" : ", unsigned input accepted");
+}
+
+}  // namespace tiller::launch
