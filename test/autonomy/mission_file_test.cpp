@@ -118,7 +118,7 @@ TEST(MissionTool, BadFlagsNameTheFlagAndTheExpectedValue) {
       {"--path-id 99999999999999999999",
        "--path-id: expected a whole number >= 0 (int64), got '99999999999999999999'"},
       {"--config config/missions/default.yaml",
-       "has no config file; give the mission with --mission"},
+       "--config is not taken: tiller-mission has no config file"},
   };
   for (const auto& [flags, message] : cases) {
     SCOPED_TRACE(flags);
