@@ -23,8 +23,10 @@ std::map<std::string, std::string> signing_env(const LaunchFile& lf,
   std::map<std::string, std::string> env;
   char window[32];
   std::snprintf(window, sizeof window, "%.6g", lf.auth_window_s);
-  env["TILLER_AUTH_WINDOW_S"] = window;
-  env["TILLER_REQUIRE_SIGNED"] = lf.require_signed ? "1" : "0";
+  // emplace, not operator[] = "literal": GCC 12 at -O3 raises a false -Wrestrict inside
+  // std::string::assign for the latter (GCC bugs 105329 / 105651).
+  env.emplace("TILLER_AUTH_WINDOW_S", window);
+  env.emplace("TILLER_REQUIRE_SIGNED", lf.require_signed ? "1" : "0");
   if (key.empty()) return env;  // no signing in this run (require_signed needs a key_file)
   if (key[0] != '/') key = (fs::path(lf.root) / key).lexically_normal().string();
   try {
