@@ -84,6 +84,9 @@ thruster_command_t command(double v, bool armed) {
   c.n_thrusters = 4;
   c.names = {"t1", "t2", "t3", "t4"};
   c.command = {v, v, v, v};
+  // As the mixer's intent gate says it: a neutral demand lets tiller-esc grant an arm request.
+  c.gate = armed ? thruster_command_t::GATE_ACTIVE : thruster_command_t::GATE_DISARMED;
+  c.arm_allowed = v == 0.0;
   return c;
 }
 
