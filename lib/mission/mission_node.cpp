@@ -23,7 +23,11 @@ MissionNode::MissionNode(const Mission& m, std::int64_t path_id, TimeUs repeat_p
 }
 
 void MissionNode::on_arm_state(const arm_state_t& m, TimeUs now) {
-  if (checks::check(m) != nullptr || !m.armed || start_sent_ || (arm_ && !arm_sent_)) return;
+  if (checks::check(m) != nullptr) {
+    reject(counter("rejected.arm_state.invalid"));  // made on first use
+    return;
+  }
+  if (!m.armed || start_sent_ || (arm_ && !arm_sent_)) return;
   mission_command_t c{};
   c.utime = now;
   c.command_id = path_.path_id > 0 ? path_.path_id : 1;

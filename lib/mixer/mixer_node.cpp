@@ -195,6 +195,10 @@ void MixerNode::on_arbitration(const arbitration_t& m, TimeUs now) {
 }
 
 void MixerNode::on_arm_state(const arm_state_t& m, TimeUs now) {
+  if (checks::check(m) != nullptr) {
+    reject(counter("rejected.arm_state.invalid"));  // made on first use
+    return;
+  }
   const bool before = armed_ && arm_fresh_.fresh(now);
   armed_ = m.armed;
   session_ = m.session;

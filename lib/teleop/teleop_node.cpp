@@ -94,6 +94,10 @@ void TeleopNode::on_odometry(const odometry_t& o, TimeUs now) {
 }
 
 void TeleopNode::on_arm_state(const arm_state_t& a, TimeUs now) {
+  if (checks::check(a) != nullptr) {
+    reject(counter("rejected.arm_state.invalid"));  // made on first use
+    return;
+  }
   armed_ = a.armed;
   arm_known_ = true;
   arm_fresh_.mark(now);

@@ -24,6 +24,7 @@
 #include <tiller/joystick_state_t.hpp>
 #include <tiller/manual_demand_t.hpp>
 #include <tiller/manual_velocity_cmd_t.hpp>
+#include <tiller/mission_command_t.hpp>
 #include <tiller/odometry_t.hpp>
 #include <tiller/path_progress_t.hpp>
 #include <tiller/path_t.hpp>
@@ -189,6 +190,16 @@ inline arm_state_t good(const std::string&, TimeUs t, const InputContext&) {
   m.utime = t;
   m.armed = true;
   m.reason = "test";
+  return m;
+}
+
+template <>
+inline mission_command_t good(const std::string&, TimeUs t, const InputContext&) {
+  mission_command_t m{};
+  m.utime = t;
+  m.command_id = 1;
+  m.command = mission_command_t::START;
+  m.source = "test";
   return m;
 }
 
@@ -434,16 +445,29 @@ inline std::int64_t missing_kinds_hash<arm_request_t>() {
 
 template <>
 inline std::vector<BadValue<arm_state_t>> bad_values() {
-  return {};
+  return {{"session -1", kOR, [](arm_state_t& m) { m.session = -1; }}};
 }
 template <>
 inline std::vector<MissingKind> missing_kinds<arm_state_t>() {
-  return {{kNF, "a time, a boolean and text only"},
-          {kOR, "a time, a boolean and text only: every decoded value is allowed"}};
+  return {{kNF, "a time, a boolean, an integer and text only"}};
 }
 template <>
 inline std::int64_t missing_kinds_hash<arm_state_t>() {
-  return static_cast<std::int64_t>(0xbccd64914288b90eULL);
+  return static_cast<std::int64_t>(0x664e79175ac6ac3dULL);
+}
+
+template <>
+inline std::vector<BadValue<mission_command_t>> bad_values() {
+  return {{"command id 0", kOR, [](mission_command_t& m) { m.command_id = 0; }},
+          {"unknown command 9", kOR, [](mission_command_t& m) { m.command = 9; }}};
+}
+template <>
+inline std::vector<MissingKind> missing_kinds<mission_command_t>() {
+  return {{kNF, "integers and text only"}};
+}
+template <>
+inline std::int64_t missing_kinds_hash<mission_command_t>() {
+  return static_cast<std::int64_t>(0x70837850d67618afULL);
 }
 
 template <>
@@ -568,14 +592,23 @@ TypeInputs type_inputs() {
 
 // Every type with inputs here; a subscribed type missing from this list fails input_checks_test.
 inline std::vector<TypeInputs> all_type_inputs() {
-  return {type_inputs<odometry_t>(),          type_inputs<velocity_setpoint_t>(),
-          type_inputs<station_target_t>(),    type_inputs<wrench_t>(),
-          type_inputs<allocation_status_t>(), type_inputs<arbitration_t>(),
-          type_inputs<manual_demand_t>(),     type_inputs<manual_velocity_cmd_t>(),
-          type_inputs<controller_mode_t>(),   type_inputs<arm_request_t>(),
-          type_inputs<arm_state_t>(),         type_inputs<path_t>(),
-          type_inputs<path_progress_t>(),     type_inputs<thruster_command_t>(),
-          type_inputs<esc_output_t>(),        type_inputs<joystick_state_t>()};
+  return {type_inputs<odometry_t>(),
+          type_inputs<velocity_setpoint_t>(),
+          type_inputs<station_target_t>(),
+          type_inputs<wrench_t>(),
+          type_inputs<allocation_status_t>(),
+          type_inputs<arbitration_t>(),
+          type_inputs<manual_demand_t>(),
+          type_inputs<manual_velocity_cmd_t>(),
+          type_inputs<controller_mode_t>(),
+          type_inputs<arm_request_t>(),
+          type_inputs<arm_state_t>(),
+          type_inputs<mission_command_t>(),
+          type_inputs<path_t>(),
+          type_inputs<path_progress_t>(),
+          type_inputs<thruster_command_t>(),
+          type_inputs<esc_output_t>(),
+          type_inputs<joystick_state_t>()};
 }
 
 }  // namespace tiller::test
