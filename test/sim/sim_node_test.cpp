@@ -482,7 +482,9 @@ TEST(SimNode, ClosedLoopWithMixerAndEscInLockstep) {
     manual_demand_t d{};
     d.utime = t;
     d.valid = true;
-    d.demand[0] = 1.0;  // full ahead
+    // Centred first (the mixer's intent gate holds neutral until the pilot shows neutral after
+    // arming, docs/safety.md), then full ahead.
+    d.demand[0] = t < 500'000 ? 0.0 : 1.0;
     ex.inject(channels::kManualDemand, d, t);
   }
   ex.run_until(40 * kUsPerSecond);
@@ -525,7 +527,7 @@ TEST(SimNode, RovsFlyEveryAxisFromFullDemandWithoutCapsizing) {
         manual_demand_t d{};
         d.utime = t;
         d.valid = true;
-        d.demand[axis] = 1.0;
+        d.demand[axis] = t < 500'000 ? 0.0 : 1.0;  // centred first: the intent gate
         ex.inject(channels::kManualDemand, d, t);
       }
       double max_tilt = 0, max_pitch = 0;
