@@ -1,10 +1,10 @@
 // A log played with the real lcm-logplayer (a client Tiller did not write) into running Tiller
 // processes: the first 12 s of the golden log's inputs to the simulator (TILLER_ESC_OUTPUT) and
-// the mixer (wrenches, arbitration, arm state) are played into a live tiller-sim and
-// tiller-mixer started by tiller-launch, with lcm-logger recording. Their live answers must
-// match the recorded ones within a tolerance: the simulated pose within 0.3 m and 5 deg of the
-// recorded ground truth, and nearly every thruster command within 0.02 of a recorded command
-// published within 30 ms of it. Runs in a private network namespace (NETNS).
+// the mixer (wrenches, arbitration, arm state, the operator's START) are played into a live
+// tiller-sim and tiller-mixer started by tiller-launch, with lcm-logger recording. Their live
+// answers must match the recorded ones within a tolerance: the simulated pose within 0.3 m and 5
+// deg of the recorded ground truth, and nearly every thruster command within 0.02 of a recorded
+// command published within 30 ms of it. Runs in a private network namespace (NETNS).
 #include <gtest/gtest.h>
 
 #include <algorithm>
@@ -37,7 +37,8 @@ TEST(LogPlayer, LiveSimAndMixerRespondAsRecorded) {
   const TimeUs t0 = golden.front().time;
   const TimeUs clip_end = t0 + 12 * kUsPerSecond;
   const std::string inputs =
-      "^TILLER_(ESC_OUTPUT|WRENCH_VELOCITY|WRENCH_STATION|ARBITRATION|ARM_STATE|MANUAL_DEMAND)$";
+      "^TILLER_(ESC_OUTPUT|WRENCH_VELOCITY|WRENCH_STATION|ARBITRATION|ARM_STATE|MANUAL_DEMAND|"
+      "MISSION_COMMAND)$";
   const std::regex in_re(inputs);
   std::vector<Event> clip;
   {
