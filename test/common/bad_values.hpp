@@ -9,6 +9,7 @@
 // added later fails the test until it has bad values.
 #pragma once
 
+#include <cctype>
 #include <cmath>
 #include <cstdint>
 #include <functional>
@@ -21,6 +22,7 @@
 #include <tiller/arm_state_t.hpp>
 #include <tiller/controller_mode_t.hpp>
 #include <tiller/esc_output_t.hpp>
+#include <tiller/heartbeat_t.hpp>
 #include <tiller/joystick_state_t.hpp>
 #include <tiller/manual_demand_t.hpp>
 #include <tiller/manual_velocity_cmd_t.hpp>
@@ -30,6 +32,7 @@
 #include <tiller/path_t.hpp>
 #include <tiller/station_target_t.hpp>
 #include <tiller/thruster_command_t.hpp>
+#include <tiller/vehicle_status_t.hpp>
 #include <tiller/velocity_setpoint_t.hpp>
 #include <tiller/wrench_t.hpp>
 
@@ -190,6 +193,37 @@ inline arm_state_t good(const std::string&, TimeUs t, const InputContext&) {
   m.utime = t;
   m.armed = true;
   m.reason = "test";
+  return m;
+}
+
+// A heartbeat names the process its channel is for (TILLER_HEARTBEAT_PATH_FOLLOWER:
+// "path-follower"), with one counter.
+template <>
+inline heartbeat_t good(const std::string& channel, TimeUs t, const InputContext&) {
+  heartbeat_t m{};
+  m.utime = t;
+  const std::string prefix = channels::kHeartbeatPrefix;
+  std::string name = channel.rfind(prefix, 0) == 0 ? channel.substr(prefix.size()) : channel;
+  for (char& c : name)
+    c = c == '_' ? '-' : static_cast<char>(std::tolower(static_cast<unsigned char>(c)));
+  m.process = name;
+  m.state = heartbeat_t::STATE_OK;
+  m.status = "ok";
+  m.received = 10;
+  m.n_counters = 1;
+  m.counter_names = {"rejected.test"};
+  m.counter_values = {0};
+  return m;
+}
+
+template <>
+inline vehicle_status_t good(const std::string&, TimeUs t, const InputContext&) {
+  vehicle_status_t m{};
+  m.utime = t;
+  m.active = vehicle_status_t::EVENT_BATTERY_WARN;
+  m.latched = 5;  // EVENT_BATTERY_WARN | EVENT_LEAK
+  m.action = vehicle_status_t::ACTION_WARN;
+  m.reason = "battery 14.0 V < warning 14.2 V";
   return m;
 }
 
@@ -457,6 +491,35 @@ inline std::int64_t missing_kinds_hash<arm_state_t>() {
 }
 
 template <>
+inline std::vector<BadValue<heartbeat_t>> bad_values() {
+  return {{"counter -1", kOR, [](heartbeat_t& m) { m.counter_values[0] = -1; }}};
+}
+template <>
+inline std::vector<MissingKind> missing_kinds<heartbeat_t>() {
+  return {{kNF, "integers and text only"}};
+}
+template <>
+inline std::int64_t missing_kinds_hash<heartbeat_t>() {
+  return static_cast<std::int64_t>(0x17e12207035524d5ULL);
+}
+
+template <>
+inline std::vector<BadValue<vehicle_status_t>> bad_values() {
+  return {{"action 9", kOR, [](vehicle_status_t& m) { m.action = 9; }},
+          {"unknown event bit", kOR, [](vehicle_status_t& m) { m.active = 64; }},
+          {"active not latched", kOR,
+           [](vehicle_status_t& m) { m.active = vehicle_status_t::EVENT_GEOFENCE; }}};
+}
+template <>
+inline std::vector<MissingKind> missing_kinds<vehicle_status_t>() {
+  return {{kNF, "integers and text only"}};
+}
+template <>
+inline std::int64_t missing_kinds_hash<vehicle_status_t>() {
+  return static_cast<std::int64_t>(0x71188dd317ad2972ULL);
+}
+
+template <>
 inline std::vector<BadValue<mission_command_t>> bad_values() {
   return {{"command id 0", kOR, [](mission_command_t& m) { m.command_id = 0; }},
           {"unknown command 9", kOR, [](mission_command_t& m) { m.command = 9; }}};
@@ -608,7 +671,9 @@ inline std::vector<TypeInputs> all_type_inputs() {
           type_inputs<path_progress_t>(),
           type_inputs<thruster_command_t>(),
           type_inputs<esc_output_t>(),
-          type_inputs<joystick_state_t>()};
+          type_inputs<joystick_state_t>(),
+          type_inputs<heartbeat_t>(),
+          type_inputs<vehicle_status_t>()};
 }
 
 }  // namespace tiller::test

@@ -29,6 +29,8 @@
 #include <vector>
 
 #include "bad_values.hpp"
+#include "cockpit/cockpit_config.hpp"
+#include "cockpit/cockpit_node.hpp"
 #include "control/control_config.hpp"
 #include "control/station_keep_node.hpp"
 #include "control/velocity_pid_node.hpp"
@@ -172,6 +174,14 @@ std::vector<NodeCase> node_cases() {
                      return std::make_unique<sensors::GnssNode>(sensors::load_gnss_file(f));
                    }});
   }
+  for (const auto& f : shipped("cockpit")) {
+    out.push_back({"CockpitNode", "tiller-cockpit " + rel(f), [f](InputContext& ctx) {
+                     ctx.thrusters = {"port", "starboard"};  // it shows any vehicle's
+                     return std::make_unique<cockpit::CockpitNode>(
+                         cockpit::load_cockpit_file(f).node, "0123456789abcdef",
+                         [](const std::string&, const std::string&) { return mission::Mission{}; });
+                   }});
+  }
   for (const auto& f : shipped("missions")) {
     out.push_back({"MissionNode", "tiller-mission " + rel(f), [f](InputContext&) {
                      return std::make_unique<mission::MissionNode>(mission::load_mission_file(f), 1,
@@ -226,8 +236,11 @@ RunResult run(const NodeCase& nc, const std::vector<TypeInputs>& all, const Even
   ex.add(*node);
   RunResult r;
   std::set<std::string> outs;
+  // A channel the node both publishes and listens to (tiller-cockpit shows TILLER_MODE and
+  // TILLER_PATH, and sends them only on a page's command) would count the injected inputs as
+  // outputs: only channels it does not also listen to are compared.
   for (const auto& c : node->published_channels())
-    if (c != node->heartbeat_channel()) outs.insert(c);
+    if (c != node->heartbeat_channel() && !node->subscribes_to(c)) outs.insert(c);
   ex.observe([&](const std::string& ch, const std::uint8_t* d, int n, TimeUs t) {
     if (outs.count(ch)) r.outputs.push_back({ch, t, std::vector<std::uint8_t>(d, d + n)});
   });

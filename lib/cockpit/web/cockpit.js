@@ -1,0 +1,325 @@
+// Tiller cockpit page: plain JavaScript, no library. Talks to tiller-cockpit over the WebSocket
+// at /ws (docs/reference/cockpit-api.md): state frames in, commands (with the token) out.
+'use strict';
+const $ = (id) => document.getElementById(id);
+const st = { msgs: {}, health: [], hello: null, track: [], plots: [], t: 0, pilot: null };
+let ws = null;
+let token = sessionStorage.getItem('tiller-token') || '';
+let nextId = 1;
+const TRACK_MAX = 3000, PLOT_S = 120;
+
+(function takeTokenFromUrl() {
+  const m = location.hash.match(/token=([^&]+)/);
+  if (m) {
+    token = decodeURIComponent(m[1]);
+    sessionStorage.setItem('tiller-token', token);
+    history.replaceState(null, '', location.pathname);  // the token leaves the address bar
+  }
+})();
+
+function showToken() {
+  const p = $('tokenstate');
+  p.textContent = token ? 'commands: token set' : 'read only: no token';
+  p.className = 'pill ' + (token ? 'ok' : 'warn');
+}
+
+function send(obj) {
+  if (!ws || ws.readyState !== 1) return false;
+  obj.token = token;
+  ws.send(JSON.stringify(obj));
+  return true;
+}
+
+function command(obj) {
+  obj.id = nextId++;
+  if (!send(obj)) showReply({ ok: false, command: obj.type, error: 'not connected' });
+}
+
+function showReply(r) {
+  const el = $('reply');
+  el.textContent = (r.ok ? 'ok: ' : 'refused: ') + (r.command || '') + ': ' + (r.ok ? r.detail : r.error);
+  el.className = 'reply' + (r.ok ? '' : ' err');
+}
+
+function connect() {
+  ws = new WebSocket((location.protocol === 'https:' ? 'wss://' : 'ws://') + location.host + '/ws');
+  ws.onopen = () => { $('link').textContent = 'connected'; $('link').className = 'pill ok'; };
+  ws.onclose = () => {
+    $('link').textContent = 'link lost'; $('link').className = 'pill bad';
+    padSending = false;
+    setTimeout(connect, 1000);
+  };
+  ws.onmessage = (ev) => {
+    const m = JSON.parse(ev.data);
+    if (m.type === 'hello') { st.hello = m; return; }
+    if (m.type === 'reply') { if (m.command !== 'gamepad' || !m.ok) showReply(m); return; }
+    if (m.type === 'state' || m.type === 'snapshot') onState(m);
+  };
+}
+
+function onState(m) {
+  st.t = m.t;
+  for (const [ch, v] of Object.entries(m.msgs)) {
+    st.msgs[ch] = v;
+    if (ch === 'TILLER_ODOMETRY') {
+      const o = v.msg;
+      const last = st.track[st.track.length - 1];
+      if (!last || Math.hypot(o.position[0] - last[0], o.position[1] - last[1]) > 0.05) {
+        st.track.push([o.position[0], o.position[1]]);
+        if (st.track.length > TRACK_MAX) st.track.shift();
+      }
+    }
+  }
+  st.health = m.health;
+  st.pilot = m.pilot;
+  st.cockpit = m.cockpit;
+  samplePlots();
+  render();
+}
+
+const msg = (ch) => (st.msgs[ch] ? st.msgs[ch].msg : null);
+const deg = (r) => { let d = (r * 180) / Math.PI; if (d < 0) d += 360; return d; };
+const fmt = (x, n = 2) => (x === null || x === undefined || Number.isNaN(x) ? '-' : Number(x).toFixed(n));
+
+function setpoint() {
+  const s = msg('TILLER_VELOCITY_SETPOINT');
+  if (!s || !s.active) return { speed: null, heading: null };
+  return { speed: Math.hypot(s.velocity[0], s.velocity[1]), heading: s.heading_valid ? deg(s.target_heading) : null };
+}
+
+function samplePlots() {
+  const o = msg('TILLER_ODOMETRY');
+  if (!o) return;
+  const sp = setpoint();
+  st.plots.push({ t: st.t / 1e6, speed: Math.hypot(o.velocity[0], o.velocity[1]), heading: deg(o.orientation[2]),
+                  speed_sp: sp.speed, heading_sp: sp.heading });
+  while (st.plots.length && st.plots[0].t < st.t / 1e6 - PLOT_S) st.plots.shift();
+}
+
+function pill(id, text, cls) { const p = $(id); p.textContent = text; p.className = 'pill ' + cls; }
+
+function render() {
+  const c = (st.hello && st.hello.constants) || {};
+  const arm = msg('TILLER_ARM_STATE');
+  pill('armed', arm ? (arm.armed ? 'ARMED' : 'disarmed') : 'arm ?', arm ? (arm.armed ? 'bad' : 'ok') : '');
+  $('armreason').textContent = arm ? arm.reason : '-';
+  const tc = msg('TILLER_THRUSTER_COMMAND');
+  const gates = ['DISARMED', 'WAIT_NEUTRAL', 'ACTIVE', 'INPUT_LOST'];
+  pill('gate', tc ? 'gate ' + gates[tc.gate] : 'gate ?', tc ? (tc.gate === 2 ? 'warn' : '') : '');
+  $('hold').textContent = tc && tc.hold ? tc.hold : '-';
+  const arb = msg('TILLER_ARBITRATION'), mode = msg('TILLER_MODE');
+  const modes = ['MANUAL_OPEN_LOOP', 'MANUAL_CLOSED_LOOP', 'WAYPOINTING'];
+  pill('mode', 'mode ' + (mode ? modes[mode.mode] : '?'), '');
+  const vs = msg('TILLER_VEHICLE_STATUS');
+  pill('failsafe', vs ? (vs.active ? 'FAILSAFE: ' + vs.reason : 'no failsafe') : 'failsafes: no monitor', vs && vs.active ? 'bad' : '');
+  const o = msg('TILLER_ODOMETRY');
+  const sp = setpoint();
+  if (o) {
+    $('speed').textContent = fmt(Math.hypot(o.velocity[0], o.velocity[1])) + ' m/s';
+    $('heading').textContent = fmt(deg(o.orientation[2]), 1) + ' deg';
+    $('depth').textContent = fmt(o.position[2]) + ' m';
+    $('attitude').textContent = fmt(deg(o.orientation[0]) > 180 ? deg(o.orientation[0]) - 360 : deg(o.orientation[0]), 1) + ' / ' +
+      fmt((o.orientation[1] * 180) / Math.PI, 1) + ' deg';
+    $('pos').textContent = fmt(o.position[0]) + ' / ' + fmt(o.position[1]) + ' m';
+  }
+  $('speed_sp').textContent = sp.speed === null ? '-' : fmt(sp.speed) + ' m/s';
+  $('heading_sp').textContent = sp.heading === null ? '-' : fmt(sp.heading, 1) + ' deg';
+  const pr = msg('TILLER_PATH_PROGRESS');
+  if (pr) {
+    $('xte').textContent = fmt(pr.cross_track_error) + ' m';
+    $('progress').textContent = pr.path_id < 0 ? 'no path' :
+      `point ${pr.segment + 1} of ${pr.n_waypoints}, ${fmt(pr.distance_to_goal, 1)} m to goal` + (pr.complete ? ', COMPLETE' : '') +
+      (pr.skipped_waypoints ? `, ${pr.skipped_waypoints} skipped` : '');
+  }
+  renderThrusters(tc);
+  renderHealth();
+  renderPad();
+  drawMap();
+  drawPlot($('plot_speed'), 'speed', 'speed_sp', null);
+  drawPlot($('plot_heading'), 'heading', 'heading_sp', [0, 360]);
+}
+
+function renderThrusters(tc) {
+  const box = $('thrusters');
+  const al = msg('TILLER_ALLOCATION_STATUS');
+  if (!tc) { box.textContent = 'no thruster commands'; return; }
+  if (box.children.length !== tc.n_thrusters) {
+    box.innerHTML = '';
+    for (let i = 0; i < tc.n_thrusters; i++) {
+      const row = document.createElement('div');
+      row.className = 'bar';
+      row.innerHTML = `<span>${tc.names[i]}</span><div class="track"><div class="mid"></div><div class="fill"></div></div><span class="v"></span>`;
+      box.appendChild(row);
+    }
+  }
+  for (let i = 0; i < tc.n_thrusters; i++) {
+    const row = box.children[i];
+    const v = Math.max(-1, Math.min(1, tc.command[i]));
+    const fill = row.querySelector('.fill');
+    fill.style.left = (v >= 0 ? 50 : 50 + v * 50) + '%';
+    fill.style.width = Math.abs(v) * 50 + '%';
+    const sat = al && al.saturated && al.saturated[i];
+    fill.className = 'fill' + (sat ? ' sat' : '');
+    row.querySelector('.v').textContent = fmt(tc.command[i]) + (sat ? ' SAT' : '');
+  }
+  if (al) {
+    const un = al.unallocated.map((x) => Math.abs(x)).reduce((a, b) => Math.max(a, b), 0);
+    $('alloc').textContent = `${al.strategy}, scale ${fmt(al.scale)}, largest unmet ${fmt(un)}; limits -1..+1`;
+  }
+}
+
+function renderHealth() {
+  const t = $('health');
+  t.innerHTML = '';
+  for (const h of st.health) {
+    const tr = document.createElement('tr');
+    tr.className = h.state;
+    tr.dataset.process = h.process;
+    tr.innerHTML = `<td>${h.process}</td><td>${h.state}</td><td>${h.age_s === null ? '-' : fmt(h.age_s, 1) + ' s'}</td><td></td>`;
+    tr.lastChild.textContent = h.status;
+    t.appendChild(tr);
+  }
+  const c = st.cockpit;
+  if (c) {
+    const tr = document.createElement('tr');
+    tr.className = 'OK';
+    tr.innerHTML = `<td>cockpit</td><td>OK</td><td></td><td>commands accepted ${c.accepted}, refused without token ${c.token_refused}</td>`;
+    tr.id = 'cockpit_counts';
+    t.appendChild(tr);
+  }
+}
+
+// ---- map: local NED, north up, east right
+function drawMap() {
+  const cv = $('map'), g = cv.getContext('2d');
+  const W = cv.width, H = cv.height;
+  g.clearRect(0, 0, W, H);
+  const path = msg('TILLER_PATH');
+  const o = msg('TILLER_ODOMETRY');
+  const pts = [];
+  if (path) for (const w of path.waypoints) pts.push([w.position[0], w.position[1]]);
+  for (const p of st.track) pts.push(p);
+  if (o) pts.push([o.position[0], o.position[1]]);
+  if (!pts.length) { g.fillStyle = '#667'; g.fillText('no odometry yet', 10, 20); return; }
+  let nmin = Infinity, nmax = -Infinity, emin = Infinity, emax = -Infinity;
+  for (const [n, e] of pts) { nmin = Math.min(nmin, n); nmax = Math.max(nmax, n); emin = Math.min(emin, e); emax = Math.max(emax, e); }
+  const span = Math.max(nmax - nmin, emax - emin, 10) * 1.15;
+  const s = Math.min(W, H) / span;
+  const cn = (nmin + nmax) / 2, ce = (emin + emax) / 2;
+  const X = (e) => W / 2 + (e - ce) * s, Y = (n) => H / 2 - (n - cn) * s;
+  // grid every 5 or 10 m
+  const step = span > 60 ? 10 : 5;
+  g.strokeStyle = '#1e2630'; g.lineWidth = 1;
+  for (let e = Math.floor((ce - W / 2 / s) / step) * step; e < ce + W / 2 / s; e += step) { g.beginPath(); g.moveTo(X(e), 0); g.lineTo(X(e), H); g.stroke(); }
+  for (let n = Math.floor((cn - H / 2 / s) / step) * step; n < cn + H / 2 / s; n += step) { g.beginPath(); g.moveTo(0, Y(n)); g.lineTo(W, Y(n)); g.stroke(); }
+  g.fillStyle = '#556'; g.fillText(`grid ${step} m`, 6, H - 6);
+  const pr = msg('TILLER_PATH_PROGRESS');
+  if (path && path.n_waypoints) {
+    g.strokeStyle = '#c9a227'; g.setLineDash([6, 4]); g.beginPath();
+    path.waypoints.forEach((w, i) => (i ? g.lineTo : g.moveTo).call(g, X(w.position[1]), Y(w.position[0])));
+    g.stroke(); g.setLineDash([]);
+    const sameId = pr && pr.path_id === path.path_id;
+    path.waypoints.forEach((w, i) => {
+      const reached = sameId && (pr.complete || i < pr.segment);
+      g.fillStyle = reached ? '#3cb371' : '#c9a227';
+      g.beginPath(); g.arc(X(w.position[1]), Y(w.position[0]), 5, 0, 2 * Math.PI); g.fill();
+      g.fillStyle = '#ccd'; g.fillText(String(i + 1), X(w.position[1]) + 7, Y(w.position[0]) - 7);
+    });
+  }
+  if (st.track.length > 1) {
+    g.strokeStyle = '#4aa3ff'; g.lineWidth = 2; g.beginPath();
+    st.track.forEach(([n, e], i) => (i ? g.lineTo : g.moveTo).call(g, X(e), Y(n)));
+    g.stroke(); g.lineWidth = 1;
+  }
+  if (o) {
+    const psi = o.orientation[2];
+    const x = X(o.position[1]), y = Y(o.position[0]);
+    g.save(); g.translate(x, y); g.rotate(psi);
+    g.fillStyle = '#ffffff'; g.beginPath(); g.moveTo(0, -12); g.lineTo(7, 9); g.lineTo(-7, 9); g.closePath(); g.fill();
+    g.restore();
+  }
+  $('mapinfo').textContent = o ? `vehicle at N ${fmt(o.position[0], 1)} E ${fmt(o.position[1], 1)} m` : '';
+}
+
+function drawPlot(cv, key, spKey, fixed) {
+  const g = cv.getContext('2d'), W = cv.width, H = cv.height;
+  g.clearRect(0, 0, W, H);
+  const d = st.plots;
+  if (d.length < 2) return;
+  const t1 = d[d.length - 1].t, t0 = t1 - PLOT_S;
+  let lo = Infinity, hi = -Infinity;
+  for (const p of d) for (const v of [p[key], p[spKey]]) if (v !== null) { lo = Math.min(lo, v); hi = Math.max(hi, v); }
+  if (fixed) { lo = fixed[0]; hi = fixed[1]; }
+  if (hi - lo < 0.5) { hi += 0.25; lo -= 0.25; }
+  const X = (t) => ((t - t0) / PLOT_S) * (W - 40) + 40, Y = (v) => H - 14 - ((v - lo) / (hi - lo)) * (H - 24);
+  g.fillStyle = '#778'; g.fillText(fmt(hi, 1), 2, 12); g.fillText(fmt(lo, 1), 2, H - 14); g.fillText(key, W - 60, 12);
+  const line = (k, colour, dash) => {
+    g.strokeStyle = colour; g.setLineDash(dash); g.beginPath(); let pen = false;
+    for (const p of d) {
+      if (p[k] === null) { pen = false; continue; }
+      if (pen && key === 'heading' && Math.abs(p[k] - prev) > 180) pen = false;
+      (pen ? g.lineTo : g.moveTo).call(g, X(p.t), Y(p[k])); pen = true; var prev = p[k];
+    }
+    g.stroke(); g.setLineDash([]);
+  };
+  line(spKey, '#c9a227', [5, 4]);
+  line(key, '#4aa3ff', []);
+}
+
+// ---- gamepad: the page is a pilot source; it sends its axes every period while visible
+let padSending = false;
+function renderPad() {
+  const p = st.pilot;
+  $('pilot').textContent = p ? (p.client < 0 ? 'no pilot' : (p.centred ? 'pilot in control, demand ' : 'pilot: centre the sticks, demand ') +
+    p.demand.map((x) => fmt(x)).join(' ')) : '-';
+}
+function currentPad() {
+  const pads = navigator.getGamepads ? navigator.getGamepads() : [];
+  for (const p of pads) if (p && p.connected) return p;
+  return null;
+}
+function padTick() {
+  const pad = currentPad();
+  const visible = document.visibilityState === 'visible';
+  const box = $('pad');
+  if (pad) {
+    $('padinfo').textContent = pad.id.slice(0, 40);
+    box.innerHTML = Array.from(pad.axes).map((a, i) => `<div class="bar"><span>axis ${i}</span><div class="track"><div class="mid"></div>` +
+      `<div class="fill" style="left:${a >= 0 ? 50 : 50 + a * 50}%;width:${Math.abs(a) * 50}%"></div></div><span>${fmt(a)}</span></div>`).join('');
+  } else {
+    $('padinfo').textContent = 'none (press a button on the gamepad)';
+  }
+  if (!token || !ws || ws.readyState !== 1) { padSending = false; return; }
+  if (pad && visible) {
+    send({ type: 'gamepad', connected: true, axes: Array.from(pad.axes) });
+    padSending = true;
+  } else if (padSending) {
+    send({ type: 'gamepad', connected: false });
+    padSending = false;
+  }
+}
+function padLost() { if (padSending) { send({ type: 'gamepad', connected: false }); padSending = false; } }
+document.addEventListener('visibilitychange', () => { if (document.visibilityState !== 'visible') padLost(); });
+window.addEventListener('pagehide', padLost);
+window.addEventListener('gamepaddisconnected', () => { if (!currentPad()) padLost(); });
+
+// ---- controls
+$('arm').onclick = () => {
+  if (!window.confirm('Arm the thrusters? Thrust follows the source in control once it shows neutral.')) return;
+  command({ type: 'arm', arm: true, confirm: true });
+};
+$('disarm').onclick = () => command({ type: 'arm', arm: false });
+$('modebtn').onclick = () => command({ type: 'mode', mode: $('modesel').value });
+for (const c of ['start', 'pause', 'resume', 'abort', 'release'])
+  $(c).onclick = () => command({ type: 'mission', command: c });
+$('tokenbtn').onclick = () => { token = $('token').value.trim(); sessionStorage.setItem('tiller-token', token); showToken(); };
+function loadFile(f) { f.text().then((text) => command({ type: 'mission_load', name: f.name, text })); }
+$('file').onchange = (e) => { if (e.target.files[0]) loadFile(e.target.files[0]); };
+const drop = $('drop');
+drop.ondragover = (e) => { e.preventDefault(); drop.classList.add('over'); };
+drop.ondragleave = () => drop.classList.remove('over');
+drop.ondrop = (e) => { e.preventDefault(); drop.classList.remove('over'); if (e.dataTransfer.files[0]) loadFile(e.dataTransfer.files[0]); };
+
+showToken();
+connect();
+setInterval(padTick, 50);

@@ -1,0 +1,323 @@
+// CockpitNode without sockets: the token rule, the gamepad's centring and deadman, state frames
+// (latest value per channel, health), commands and mission files, on hand-computed cases.
+#include <gtest/gtest.h>
+
+#include <cmath>
+#include <nlohmann/json.hpp>
+
+#include <tiller/arm_request_t.hpp>
+#include <tiller/controller_mode_t.hpp>
+#include <tiller/heartbeat_t.hpp>
+#include <tiller/manual_demand_t.hpp>
+#include <tiller/mission_command_t.hpp>
+#include <tiller/odometry_t.hpp>
+#include <tiller/path_t.hpp>
+
+#include "cockpit/cockpit_node.hpp"
+#include "cockpit/files.hpp"
+#include "runtime/channels.hpp"
+#include "runtime/event.hpp"
+
+namespace tiller::cockpit {
+namespace {
+
+using nlohmann::json;
+const std::string kToken = "0123456789abcdef0123456789abcdef";
+
+class CollectBus : public Bus {
+ public:
+  void publish(std::string_view channel, const std::uint8_t* data, int size) override {
+    events.push_back(Event{std::string(channel), 0, std::vector<std::uint8_t>(data, data + size)});
+  }
+  std::vector<Event> events;
+  template <class Msg>
+  std::vector<Msg> on(const std::string& ch) const {
+    std::vector<Msg> out;
+    for (const auto& e : events) {
+      if (e.channel != ch) continue;
+      Msg m;
+      m.decode(e.data.data(), 0, static_cast<int>(e.data.size()));
+      out.push_back(m);
+    }
+    return out;
+  }
+};
+
+CockpitParams params() {
+  CockpitParams p;
+  p.processes = {"sim", "mixer"};
+  p.axes = {{3, 0, -1.0, 0.1, 0.3, 1.0}, {0, 5, 1.0, 0.1, 0.0, 1.0}};  // surge, yaw
+  return p;
+}
+
+struct Rig {
+  Rig() : node(params(), kToken, &load_mission_text) {
+    node.attach(&bus);
+    node.set_sink([this](int c, const std::string& s) { frames.push_back({c, json::parse(s)}); });
+  }
+  void send(int client, json j, TimeUs now, bool with_token = true) {
+    if (with_token) j["token"] = kToken;
+    node.command(client, j.dump(), now);
+  }
+  json last_reply() const {
+    for (auto it = frames.rbegin(); it != frames.rend(); ++it)
+      if (it->second["type"] == "reply") return it->second;
+    return {};
+  }
+  json last_state() const {
+    for (auto it = frames.rbegin(); it != frames.rend(); ++it)
+      if (it->second["type"] == "state") return it->second;
+    return {};
+  }
+  void pad(int client, double surge_axis, double yaw_axis, TimeUs now) {
+    send(client,
+         {{"type", "gamepad"}, {"connected", true}, {"axes", {yaw_axis, 0.0, 0.0, surge_axis}}},
+         now);
+  }
+  std::vector<manual_demand_t> demands() const {
+    return bus.on<manual_demand_t>(channels::kManualDemand);
+  }
+  CollectBus bus;
+  CockpitNode node;
+  std::vector<std::pair<int, json>> frames;
+};
+
+TEST(CockpitNode, CommandWithoutOrWithWrongTokenIsRefusedAndCounted) {
+  Rig r;
+  r.send(1, {{"type", "arm"}, {"arm", true}, {"confirm", true}}, 1'000, false);
+  EXPECT_FALSE(r.last_reply()["ok"].get<bool>());
+  r.send(1, {{"type", "arm"}, {"arm", true}, {"confirm", true}, {"token", kToken + "0"}}, 2'000,
+         false);
+  std::string wrong = kToken;
+  wrong[5] = 'X';
+  r.send(1, {{"type", "arm"}, {"arm", true}, {"confirm", true}, {"token", wrong}}, 3'000, false);
+  EXPECT_EQ(r.node.counter_value("rejected.command.token"), 3);
+  EXPECT_EQ(r.node.rejected(), 3);
+  EXPECT_TRUE(r.bus.on<arm_request_t>(channels::kArmRequest).empty());
+  // The gamepad too: no demand without the token.
+  r.send(1, {{"type", "gamepad"}, {"axes", {0.0, 0.0, 0.0, 0.0}}}, 4'000, false);
+  EXPECT_TRUE(r.demands().empty());
+  EXPECT_EQ(r.node.counter_value("rejected.command.token"), 4);
+  // With it: one arm request, from "cockpit".
+  r.send(1, {{"type", "arm"}, {"arm", true}, {"confirm", true}, {"id", 7}}, 5'000);
+  const auto arms = r.bus.on<arm_request_t>(channels::kArmRequest);
+  ASSERT_EQ(arms.size(), 1u);
+  EXPECT_TRUE(arms[0].arm);
+  EXPECT_EQ(arms[0].source, "cockpit");
+  EXPECT_EQ(r.last_reply()["id"], 7);
+  EXPECT_TRUE(r.last_reply()["ok"].get<bool>());
+}
+
+TEST(CockpitNode, ArmingNeedsConfirmDisarmDoesNot) {
+  Rig r;
+  r.send(1, {{"type", "arm"}, {"arm", true}}, 1'000);
+  EXPECT_FALSE(r.last_reply()["ok"].get<bool>());
+  EXPECT_TRUE(r.bus.on<arm_request_t>(channels::kArmRequest).empty());
+  r.send(1, {{"type", "arm"}, {"arm", false}}, 2'000);
+  ASSERT_EQ(r.bus.on<arm_request_t>(channels::kArmRequest).size(), 1u);
+  EXPECT_FALSE(r.bus.on<arm_request_t>(channels::kArmRequest)[0].arm);
+}
+
+TEST(CockpitNode, GamepadIsNeutralAndInvalidUntilCentredThenShaped) {
+  Rig r;
+  r.pad(1, -1.0, 0.0, 10'000);  // stick held forward at the start: not centred
+  r.pad(1, -1.0, 0.0, 60'000);
+  auto d = r.demands();
+  ASSERT_EQ(d.size(), 2u);
+  for (const auto& m : d) {
+    EXPECT_FALSE(m.valid);
+    EXPECT_EQ(m.demand[0], 0.0);
+  }
+  r.pad(1, 0.05, 0.0, 110'000);  // inside the deadzone: centred
+  r.pad(1, -0.5, 0.0, 160'000);  // half forward
+  d = r.demands();
+  ASSERT_EQ(d.size(), 4u);
+  EXPECT_TRUE(d[2].valid);
+  EXPECT_EQ(d[2].demand[0], 0.0);
+  EXPECT_TRUE(d[3].valid);
+  // deadzone 0.1, expo 0.3: s = (0.5 - 0.1) / 0.9 = 0.444444; y = 0.7 s + 0.3 s^3 = 0.337449;
+  // sign -1 on an axis at -0.5: +0.337449 surge.
+  EXPECT_NEAR(d[3].demand[0], 0.337449, 1e-6);
+  for (int i = 1; i < 6; ++i) EXPECT_EQ(d[3].demand[i], 0.0);
+  EXPECT_EQ(r.node.pilot_client(), 1);
+}
+
+TEST(CockpitNode, AnAxisNeverReportedIsNotCentred) {
+  Rig r;
+  r.send(1, {{"type", "gamepad"}, {"axes", {0.0, 0.0}}}, 10'000);  // axis 3 missing
+  ASSERT_EQ(r.demands().size(), 1u);
+  EXPECT_FALSE(r.demands()[0].valid);
+  EXPECT_FALSE(r.node.pilot_centred());
+}
+
+TEST(CockpitNode, SilenceClosedSocketHiddenPageAndBadValuesGiveNeutralAtOnce) {
+  Rig r;
+  r.pad(1, 0.0, 0.0, 10'000);
+  r.pad(1, -1.0, 0.0, 60'000);
+  ASSERT_TRUE(r.demands().back().valid);
+  // Deadman: the page stops sending; the tick after timeout_s (0.25 s) sends neutral, invalid.
+  r.node.tick(300'000);
+  EXPECT_TRUE(r.demands().back().valid);  // 240 ms: not yet
+  r.node.tick(350'000);
+  EXPECT_FALSE(r.demands().back().valid);
+  EXPECT_EQ(r.demands().back().demand[0], 0.0);
+  EXPECT_EQ(r.node.counter_value("pilot.lost.timeout"), 1);
+  // Back with the stick still held: stays neutral until centred again.
+  r.pad(1, -1.0, 0.0, 400'000);
+  EXPECT_FALSE(r.demands().back().valid);
+  r.pad(1, 0.0, 0.0, 450'000);
+  r.pad(1, -1.0, 0.0, 500'000);
+  EXPECT_TRUE(r.demands().back().valid);
+  // The socket closes: neutral at once, no tick needed.
+  std::size_t n = r.demands().size();
+  r.node.client_closed(1, 510'000);
+  ASSERT_EQ(r.demands().size(), n + 1);
+  EXPECT_FALSE(r.demands().back().valid);
+  EXPECT_EQ(r.node.pilot_client(), -1);
+  // A hidden page says connected: false.
+  r.pad(2, 0.0, 0.0, 600'000);
+  r.pad(2, -1.0, 0.0, 650'000);
+  ASSERT_TRUE(r.demands().back().valid);
+  r.send(2, {{"type", "gamepad"}, {"connected", false}}, 660'000);
+  EXPECT_FALSE(r.demands().back().valid);
+  EXPECT_EQ(r.node.counter_value("pilot.lost.released"), 1);
+  // A value outside [-1, 1]: neutral at once, counted.
+  r.pad(2, 0.0, 0.0, 700'000);
+  r.pad(2, -1.0, 0.0, 750'000);
+  ASSERT_TRUE(r.demands().back().valid);
+  r.send(2, {{"type", "gamepad"}, {"axes", {0.0, 0.0, 0.0, -1.5}}}, 760'000);
+  EXPECT_FALSE(r.demands().back().valid);
+  EXPECT_EQ(r.node.counter_value("rejected.gamepad.value"), 2);  // the pilot loss and the drop
+  // shutdown() (SIGINT/SIGTERM) with a pilot: neutral, invalid.
+  r.pad(2, 0.0, 0.0, 800'000);
+  r.pad(2, -1.0, 0.0, 850'000);
+  r.node.shutdown(860'000);
+  EXPECT_FALSE(r.demands().back().valid);
+}
+
+TEST(CockpitNode, OnePilotAtATime) {
+  Rig r;
+  r.pad(1, 0.0, 0.0, 10'000);
+  const std::size_t n = r.demands().size();
+  r.pad(2, 0.0, 0.0, 20'000);
+  EXPECT_EQ(r.demands().size(), n);
+  EXPECT_EQ(r.node.counter_value("rejected.gamepad.other_pilot"), 1);
+  EXPECT_FALSE(r.last_reply()["ok"].get<bool>());
+}
+
+TEST(CockpitNode, StateFramesCarryTheLatestValueOfChangedChannelsAndHealth) {
+  Rig r;
+  odometry_t o{};
+  o.position[0] = 1.5;
+  for (int i = 0; i < 3; ++i) {
+    o.utime = i;
+    o.position[1] = i;
+    std::vector<std::uint8_t> buf(static_cast<std::size_t>(o.getEncodedSize()));
+    o.encode(buf.data(), 0, static_cast<int>(buf.size()));
+    r.node.deliver(channels::kOdometry, buf.data(), static_cast<int>(buf.size()), 10'000 + i);
+  }
+  heartbeat_t hb{};
+  hb.process = "mixer";
+  hb.state = heartbeat_t::STATE_DEGRADED;
+  hb.status = "disarmed";
+  std::vector<std::uint8_t> hbuf(static_cast<std::size_t>(hb.getEncodedSize()));
+  hb.encode(hbuf.data(), 0, static_cast<int>(hbuf.size()));
+  r.node.deliver("TILLER_HEARTBEAT_MIXER", hbuf.data(), static_cast<int>(hbuf.size()), 20'000);
+  r.node.tick(50'000);
+  json s = r.last_state();
+  ASSERT_TRUE(s["msgs"].contains("TILLER_ODOMETRY"));
+  EXPECT_EQ(s["msgs"]["TILLER_ODOMETRY"]["msg"]["position"][1], 2.0);  // the latest of three
+  EXPECT_EQ(s["msgs"]["TILLER_ODOMETRY"]["rx"], 10'002);
+  EXPECT_EQ(s["health"][0]["process"], "sim");
+  EXPECT_EQ(s["health"][0]["state"], "SILENT");
+  EXPECT_EQ(s["health"][1]["state"], "DEGRADED");
+  EXPECT_EQ(s["health"][1]["status"], "disarmed");
+  r.node.tick(100'000);
+  s = r.last_state();
+  EXPECT_FALSE(s["msgs"].contains("TILLER_ODOMETRY"));  // unchanged: not sent again
+  r.node.tick(3'000'000);
+  EXPECT_EQ(r.last_state()["health"][1]["state"], "DEGRADED");  // 2.98 s old
+  r.node.tick(3'050'000);                                       // 3.03 s > silent_after_s
+  EXPECT_EQ(r.last_state()["health"][1]["state"], "SILENT");
+  // A new client gets hello and the full snapshot (odometry included).
+  r.node.client_opened(5, 3'200'000);
+  ASSERT_GE(r.frames.size(), 2u);
+  EXPECT_EQ(r.frames[r.frames.size() - 2].first, 5);
+  EXPECT_EQ(r.frames[r.frames.size() - 2].second["type"], "hello");
+  EXPECT_EQ(r.frames.back().second["type"], "snapshot");
+  EXPECT_TRUE(r.frames.back().second["msgs"].contains("TILLER_ODOMETRY"));
+  EXPECT_EQ(r.frames[r.frames.size() - 2].second["constants"]["thruster_command_t"]["GATE_ACTIVE"],
+            2);
+  // A bad odometry is dropped and counted, the last good one stays.
+  o.orientation[2] = 4.0;
+  std::vector<std::uint8_t> buf(static_cast<std::size_t>(o.getEncodedSize()));
+  o.encode(buf.data(), 0, static_cast<int>(buf.size()));
+  r.node.deliver(channels::kOdometry, buf.data(), static_cast<int>(buf.size()), 3'300'000);
+  EXPECT_EQ(r.node.counter_value("rejected.odometry.check"), 1);
+}
+
+TEST(CockpitNode, MissionLoadStartAndErrorsWithLineAndKey) {
+  Rig r;
+  r.send(1,
+         {{"type", "mission_load"},
+          {"name", "box.yaml"},
+          {"text", "name: box\nwaypoints:\n  - [0, 0]\n  - [10, 0]\n  - [10, 10]\n"}},
+         1'000'000);
+  ASSERT_TRUE(r.last_reply()["ok"].get<bool>()) << r.last_reply().dump();
+  auto paths = r.bus.on<path_t>(channels::kPath);
+  ASSERT_EQ(paths.size(), 1u);
+  EXPECT_EQ(paths[0].n_waypoints, 3);
+  EXPECT_EQ(paths[0].waypoints[1].position[0], 10.0);
+  const auto modes = r.bus.on<controller_mode_t>(channels::kMode);
+  ASSERT_EQ(modes.size(), 1u);
+  EXPECT_EQ(modes[0].mode, controller_mode_t::WAYPOINTING);
+  // Re-sent every path_repeat_s with the same id.
+  r.node.tick(2'000'000);
+  paths = r.bus.on<path_t>(channels::kPath);
+  ASSERT_EQ(paths.size(), 2u);
+  EXPECT_EQ(paths[1].path_id, paths[0].path_id);
+  // Start and pause: two operator commands with new, growing ids.
+  r.send(1, {{"type", "mission"}, {"command", "start"}}, 2'100'000);
+  r.send(1, {{"type", "mission"}, {"command", "pause"}}, 2'100'000);
+  const auto cmds = r.bus.on<mission_command_t>(channels::kMissionCommand);
+  ASSERT_EQ(cmds.size(), 2u);
+  EXPECT_EQ(cmds[0].command, mission_command_t::START);
+  EXPECT_EQ(cmds[1].command, mission_command_t::PAUSE);
+  EXPECT_GT(cmds[1].command_id, cmds[0].command_id);
+  EXPECT_GT(cmds[0].command_id, paths[0].path_id);
+  // A broken file: refused, the reply names the uploaded file, the line and the key.
+  r.send(1,
+         {{"type", "mission_load"},
+          {"name", "bad.yaml"},
+          {"text", "name: bad\nwaypoints:\n  - [0, x]\n"}},
+         3'000'000);
+  const json rep = r.last_reply();
+  EXPECT_FALSE(rep["ok"].get<bool>());
+  const std::string err = rep["error"];
+  EXPECT_NE(err.find("bad.yaml:3"), std::string::npos) << err;
+  EXPECT_NE(err.find("waypoints[0]"), std::string::npos) << err;
+  EXPECT_EQ(err.find("tiller-cockpit-"), std::string::npos) << err;  // not the temporary copy
+  EXPECT_EQ(r.node.counter_value("rejected.mission.file"), 1);
+  r.send(1, {{"type", "mission_load"}, {"name", "x.txt"}, {"text", "1,2"}}, 3'100'000);
+  EXPECT_FALSE(r.last_reply()["ok"].get<bool>());
+  // Abort stops the repeats.
+  r.send(1, {{"type", "mission"}, {"command", "abort"}}, 3'200'000);
+  const std::size_t n = r.bus.on<path_t>(channels::kPath).size();
+  r.node.tick(5'000'000);
+  EXPECT_EQ(r.bus.on<path_t>(channels::kPath).size(), n);
+}
+
+TEST(CockpitNode, MalformedAndUnknownCommandsAreRefused) {
+  Rig r;
+  r.node.command(1, "{not json", 1'000);
+  EXPECT_FALSE(r.last_reply()["ok"].get<bool>());
+  r.send(1, {{"type", "self_destruct"}}, 2'000);
+  EXPECT_FALSE(r.last_reply()["ok"].get<bool>());
+  r.send(1, {{"type", "mode"}, {"mode", "TURBO"}}, 3'000);
+  EXPECT_FALSE(r.last_reply()["ok"].get<bool>());
+  EXPECT_EQ(r.node.counter_value("rejected.command.malformed"), 3);
+  EXPECT_TRUE(r.bus.on<controller_mode_t>(channels::kMode).empty());
+}
+
+}  // namespace
+}  // namespace tiller::cockpit
