@@ -28,7 +28,7 @@ CockpitConfig load_cockpit(const config::Value& root) {
   p.silent_after = from_seconds(root.number_or("silent_after_s", 3.0, {0.5, 60.0}));
   p.path_repeat = from_seconds(root.number_or("path_repeat_s", 1.0, {0.1, 60.0}));
   if (auto g = root.find("gamepad")) {
-    p.gamepad_timeout = from_seconds(g->number_or("timeout_s", 0.25, {0.05, 0.5}));
+    p.gamepad_timeout = from_seconds(g->number_or("timeout_s", 0.5, {0.05, 1.0}));
     p.gamepad_gain = g->number_or("gain", 1.0, {0.0, 1.0});
     if (auto axes = g->find("axes")) {
       for (const auto& a : axes->items()) {

@@ -10,7 +10,7 @@
 //   silent_after_s: 3
 //   path_repeat_s: 1           # a path loaded from the page is re-sent this often (same id)
 //   gamepad:                   # the page's gamepad (browser Gamepad API, "standard" mapping)
-//     timeout_s: 0.25          # no gamepad message for this long: neutral, invalid demand
+//     timeout_s: 0.5           # no gamepad message for this long: neutral, invalid demand
 //     gain: 1.0                # [0, 1], scales every axis
 //     axes:                    # like tiller-teleop's: gamepad axis index -> DOF
 //       - {axis: 1, dof: surge, sign: -1, deadzone: 0.1, expo: 0.3, gain: 1.0}
@@ -36,7 +36,7 @@ struct CockpitParams {
   std::vector<std::string> processes;  // node names whose heartbeats the page shows
   TimeUs silent_after = 3'000'000;
   TimeUs path_repeat = 1'000'000;
-  TimeUs gamepad_timeout = 250'000;
+  TimeUs gamepad_timeout = 500'000;
   double gamepad_gain = 1.0;
   std::vector<GamepadAxis> axes;
 };

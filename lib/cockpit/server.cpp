@@ -4,6 +4,7 @@
 #include <sys/eventfd.h>
 #include <unistd.h>
 
+#include <algorithm>
 #include <cerrno>
 #include <cstring>
 #include <stdexcept>
@@ -135,6 +136,7 @@ void CockpitServer::on_ws_close(const mg_connection* conn, void* vself) {
 }
 
 void CockpitServer::push_event(Event e) {
+  e.at = wall_time_us();
   {
     std::lock_guard<std::mutex> lock(events_mutex_);
     events_.push_back(std::move(e));
@@ -144,6 +146,7 @@ void CockpitServer::push_event(Event e) {
 }
 
 void CockpitServer::drain_events(TimeUs now) {
+  (void)now;  // each event is told its own arrival time
   std::uint64_t n = 0;
   (void)!::read(event_fd_, &n, sizeof n);
   std::deque<Event> batch;
@@ -154,7 +157,7 @@ void CockpitServer::drain_events(TimeUs now) {
   for (Event& e : batch) {
     switch (e.kind) {
       case Event::kOpen:
-        node_.client_opened(e.client, now);
+        node_.client_opened(e.client, e.at);
         {
           std::lock_guard<std::mutex> lock(clients_mutex_);
           const auto it = clients_.find(e.client);
@@ -162,10 +165,10 @@ void CockpitServer::drain_events(TimeUs now) {
         }
         break;
       case Event::kText:
-        node_.command(e.client, e.text, now);
+        node_.command(e.client, e.text, e.at);
         break;
       case Event::kClose:
-        node_.client_closed(e.client, now);
+        node_.client_closed(e.client, e.at);
         break;
     }
   }

@@ -49,6 +49,7 @@ class CockpitServer {
     enum Kind { kOpen, kText, kClose } kind;
     int client;
     std::string text;
+    TimeUs at = 0;  // when it arrived (the node is told this, as LCM messages their receive time)
   };
   struct Client {
     mg_connection* conn = nullptr;

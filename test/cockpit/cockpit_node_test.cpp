@@ -155,43 +155,43 @@ TEST(CockpitNode, SilenceClosedSocketHiddenPageAndBadValuesGiveNeutralAtOnce) {
   r.pad(1, 0.0, 0.0, 10'000);
   r.pad(1, -1.0, 0.0, 60'000);
   ASSERT_TRUE(r.demands().back().valid);
-  // Deadman: the page stops sending; the tick after timeout_s (0.25 s) sends neutral, invalid.
-  r.node.tick(300'000);
-  EXPECT_TRUE(r.demands().back().valid);  // 240 ms: not yet
-  r.node.tick(350'000);
+  // Deadman: the page stops sending; the tick after timeout_s (0.5 s) sends neutral, invalid.
+  r.node.tick(550'000);
+  EXPECT_TRUE(r.demands().back().valid);  // 490 ms: not yet
+  r.node.tick(600'000);
   EXPECT_FALSE(r.demands().back().valid);
   EXPECT_EQ(r.demands().back().demand[0], 0.0);
   EXPECT_EQ(r.node.counter_value("pilot.lost.timeout"), 1);
   // Back with the stick still held: stays neutral until centred again.
-  r.pad(1, -1.0, 0.0, 400'000);
+  r.pad(1, -1.0, 0.0, 800'000);
   EXPECT_FALSE(r.demands().back().valid);
-  r.pad(1, 0.0, 0.0, 450'000);
-  r.pad(1, -1.0, 0.0, 500'000);
+  r.pad(1, 0.0, 0.0, 850'000);
+  r.pad(1, -1.0, 0.0, 900'000);
   EXPECT_TRUE(r.demands().back().valid);
   // The socket closes: neutral at once, no tick needed.
   std::size_t n = r.demands().size();
-  r.node.client_closed(1, 510'000);
+  r.node.client_closed(1, 910'000);
   ASSERT_EQ(r.demands().size(), n + 1);
   EXPECT_FALSE(r.demands().back().valid);
   EXPECT_EQ(r.node.pilot_client(), -1);
   // A hidden page says connected: false.
-  r.pad(2, 0.0, 0.0, 600'000);
-  r.pad(2, -1.0, 0.0, 650'000);
+  r.pad(2, 0.0, 0.0, 1'000'000);
+  r.pad(2, -1.0, 0.0, 1'050'000);
   ASSERT_TRUE(r.demands().back().valid);
-  r.send(2, {{"type", "gamepad"}, {"connected", false}}, 660'000);
+  r.send(2, {{"type", "gamepad"}, {"connected", false}}, 1'060'000);
   EXPECT_FALSE(r.demands().back().valid);
   EXPECT_EQ(r.node.counter_value("pilot.lost.released"), 1);
   // A value outside [-1, 1]: neutral at once, counted.
-  r.pad(2, 0.0, 0.0, 700'000);
-  r.pad(2, -1.0, 0.0, 750'000);
+  r.pad(2, 0.0, 0.0, 1'100'000);
+  r.pad(2, -1.0, 0.0, 1'150'000);
   ASSERT_TRUE(r.demands().back().valid);
-  r.send(2, {{"type", "gamepad"}, {"axes", {0.0, 0.0, 0.0, -1.5}}}, 760'000);
+  r.send(2, {{"type", "gamepad"}, {"axes", {0.0, 0.0, 0.0, -1.5}}}, 1'160'000);
   EXPECT_FALSE(r.demands().back().valid);
   EXPECT_EQ(r.node.counter_value("rejected.gamepad.value"), 2);  // the pilot loss and the drop
   // shutdown() (SIGINT/SIGTERM) with a pilot: neutral, invalid.
-  r.pad(2, 0.0, 0.0, 800'000);
-  r.pad(2, -1.0, 0.0, 850'000);
-  r.node.shutdown(860'000);
+  r.pad(2, 0.0, 0.0, 1'200'000);
+  r.pad(2, -1.0, 0.0, 1'250'000);
+  r.node.shutdown(1'260'000);
   EXPECT_FALSE(r.demands().back().valid);
 }
 

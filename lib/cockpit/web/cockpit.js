@@ -74,7 +74,14 @@ function onState(m) {
   st.pilot = m.pilot;
   st.cockpit = m.cockpit;
   samplePlots();
-  render();
+  if (!renderPending) { renderPending = true; requestAnimationFrame(() => { renderPending = false; render(); }); }
+}
+let renderPending = false;  // at most one render per animation frame, whatever the frame rate
+
+// A canvas draws at its displayed size (CSS sets it), so nothing is stretched.
+function fit(cv) {
+  if (cv.width !== cv.clientWidth && cv.clientWidth > 0) cv.width = cv.clientWidth;
+  if (cv.height !== cv.clientHeight && cv.clientHeight > 0) cv.height = cv.clientHeight;
 }
 
 const msg = (ch) => (st.msgs[ch] ? st.msgs[ch].msg : null);
@@ -191,7 +198,7 @@ function renderHealth() {
 
 // ---- map: local NED, north up, east right
 function drawMap() {
-  const cv = $('map'), g = cv.getContext('2d');
+  const cv = $('map'); fit(cv); const g = cv.getContext('2d');
   const W = cv.width, H = cv.height;
   g.clearRect(0, 0, W, H);
   const path = msg('TILLER_PATH');
@@ -242,6 +249,7 @@ function drawMap() {
 }
 
 function drawPlot(cv, key, spKey, fixed) {
+  fit(cv);
   const g = cv.getContext('2d'), W = cv.width, H = cv.height;
   g.clearRect(0, 0, W, H);
   const d = st.plots;
@@ -278,7 +286,12 @@ function currentPad() {
   for (const p of pads) if (p && p.connected) return p;
   return null;
 }
+let lastTick = 0;
+window.__maxTimerGap = 0;  // the longest gap between two ticks, ms (a starved browser shows here)
 function padTick() {
+  const nowMs = performance.now();
+  if (lastTick) window.__maxTimerGap = Math.max(window.__maxTimerGap, nowMs - lastTick);
+  lastTick = nowMs;
   const pad = currentPad();
   const visible = document.visibilityState === 'visible';
   const box = $('pad');
