@@ -18,6 +18,7 @@ waypoints:
   - [6, -3]
   - [6, 10]
 M
+"$bin/tiller-key" new "$tmp/sim.key" > /dev/null || { echo "FAIL: tiller-key new"; exit 1; }
 export MISSION="$tmp/start.yaml" TILLER_KEY_FILE="$tmp/sim.key"
 "$bin/tiller-launch" "$src/config/launch/sim_usv_mission.yaml" --only sim \
   --log-file "$tmp/run.lcmlog" > "$tmp/out" 2>&1 &

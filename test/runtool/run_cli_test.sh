@@ -20,7 +20,7 @@ cat run.out
 grep -q "mission complete" run.out || bad "no 'mission complete'"
 grep -q "waypoints           5 (reached in order 5, missed 0)" run.out || bad "not 5 of 5 waypoints"
 [ -s run.replay.yaml ] || bad "no replay manifest"
-"$bin/tiller-score" --log run.lcmlog --mission config/missions/default.yaml > score.out 2>&1 ||
+"$bin/tiller-score" --log run.lcmlog --mission "$src/config/missions/default.yaml" > score.out 2>&1 ||
   bad "tiller-score failed: $(cat score.out)"
 sed -n '/^pose from/,/^VRX station/p' run.out > run.scores
 cmp -s run.scores score.out || { bad "tiller-run's scores differ from tiller-score's on its log"; diff run.scores score.out; }
