@@ -151,8 +151,12 @@ int sweep(const app::Args& a, const runtool::RunSpec& s) {
   const std::size_t n =
       axes.size() == 1 ? axes[0].values.size() : axes[0].values.size() * axes[1].values.size();
   const auto files = runtool::resolve_files(s);  // a missing file: exit 2 before any run
+  bool vehicle_axis = false;
+  for (const auto& x : axes) vehicle_axis |= x.name == "vehicle";
+  const std::string vehicle = vehicle_axis ? "each vehicle of the axis"
+                                           : std::filesystem::path(files.vehicle).stem().string();
   std::printf("tiller-run: sweep, %zu runs of %s on %s, %d at a time\n", n, files.mission.c_str(),
-              files.vehicle.c_str(), jobs);
+              vehicle.c_str(), jobs);
   const auto t0 = std::chrono::steady_clock::now();
   const auto rows = runtool::sweep(s, axes, jobs, a.get("log-dir"));
   const double wall = seconds_since(t0);
@@ -175,8 +179,7 @@ int sweep(const app::Args& a, const runtool::RunSpec& s) {
   std::ofstream(stem + ".csv") << runtool::csv(axes, rows);
   std::ofstream(stem + ".gp") << runtool::gnuplot_script(
       axes, rows, stem + ".csv", png,
-      fs::path(files.mission).filename().string() + " on " +
-          fs::path(files.vehicle).stem().string());
+      fs::path(files.mission).filename().string() + " on " + vehicle);
   if (!runtool::run_gnuplot(stem + ".gp") || !fs::exists(png)) {
     std::fprintf(stderr, "tiller-run: gnuplot failed (script %s.gp)\n", stem.c_str());
     return 1;
