@@ -181,14 +181,14 @@ std::vector<NodeCase> node_cases() {
                      return std::make_unique<sensors::GnssNode>(sensors::load_gnss_file(f));
                    }});
   }
-<<<<<<< HEAD
   for (const auto& f : shipped("cockpit")) {
     out.push_back({"CockpitNode", "tiller-cockpit " + rel(f), [f](InputContext& ctx) {
                      ctx.thrusters = {"port", "starboard"};  // it shows any vehicle's
                      return std::make_unique<cockpit::CockpitNode>(
                          cockpit::load_cockpit_file(f).node, "0123456789abcdef",
                          [](const std::string&, const std::string&) { return mission::Mission{}; });
-=======
+                   }});
+  }
   for (const auto& f : shipped("sensors")) {
     if (fs::path(f).filename().string().rfind("imu", 0) != 0) continue;
     out.push_back({"ImuNode", "tiller-imu " + rel(f), [f](InputContext&) {
@@ -208,7 +208,6 @@ std::vector<NodeCase> node_cases() {
     out.push_back({"LeakNode", "tiller-leak " + rel(f), [f](InputContext&) {
                      static sensors::FakeGpio gpio;  // outlives the nodes
                      return std::make_unique<sensors::LeakNode>(sensors::load_leak_file(f), gpio);
->>>>>>> main
                    }});
   }
   for (const auto& f : shipped("missions")) {
