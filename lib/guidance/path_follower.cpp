@@ -130,9 +130,8 @@ void PathFollower::carry_state(int from_seg, int to_seg) {
   };
   const double c = std::clamp(dir(from_seg).dot(dir(to_seg)), -1.0, 1.0);
   const double beta = std::asin(std::clamp(std::sin(crab()) * c, -1.0, 1.0));
-  state_ = p_.law == CrossTrackLaw::kIntegral
-               ? p_.lookahead * std::tan(beta) / p_.integral_kappa
-               : beta;
+  state_ =
+      p_.law == CrossTrackLaw::kIntegral ? p_.lookahead * std::tan(beta) / p_.integral_kappa : beta;
 }
 
 FollowerOutput PathFollower::update(const Vec2& pos, double heading, double dt) {
@@ -239,9 +238,9 @@ FollowerOutput PathFollower::update(const Vec2& pos, double heading, double dt) 
 
     const bool seed_law = p_.law == CrossTrackLaw::kSeed;
     // Along the path.
-    double along_speed =
-        seed_law ? p_.max_speed * std::max(0.0, 1.0 - e / p_.parallel_cutoff_distance)
-                 : p_.max_speed;
+    double along_speed = seed_law
+                             ? p_.max_speed * std::max(0.0, 1.0 - e / p_.parallel_cutoff_distance)
+                             : p_.max_speed;
     if (seg_ + 2 < n) {
       const Vec2 t2 = (pts_[static_cast<std::size_t>(seg_ + 2)].position - p2).normalized();
       const double angle = std::acos(std::clamp(t.dot(t2), -1.0, 1.0));

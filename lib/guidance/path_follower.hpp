@@ -36,11 +36,11 @@
 // and the velocity is that heading times the along-path speed (max_speed with the turn, end and
 // heading slow-downs; never above max_speed). The state (y_int, beta_hat) lives in the PATH
 // frame: it integrates only within integral_zone of the path and not within
-// turn_slowdown_distance after a corner (the turn's error is not the current's). It stands for the crab angle that cancels the current's component along the path's
-// normal. At a segment switch the normal turns by the turn angle d; the known component is
-// projected onto the new normal (sin beta' = sin beta * cos d: 90 deg resets it, a hairpin
-// flips it) and the unknown along-path component taken as zero. The crab angle is bounded by
-// max_crab.
+// turn_slowdown_distance after a corner (the turn's error is not the current's). It stands for the
+// crab angle that cancels the current's component along the path's normal. At a segment switch the
+// normal turns by the turn angle d; the known component is projected onto the new normal (sin beta'
+// = sin beta * cos d: 90 deg resets it, a hairpin flips it) and the unknown along-path component
+// taken as zero. The crab angle is bounded by max_crab.
 //
 // Turn anticipation (turn_rate > 0, any law): a segment is left at the wheel-over point, at
 // R * tan(d / 2) before its end point (R = U / turn_rate, U = max_speed * the turn factor: the
@@ -143,7 +143,8 @@ class PathFollower {
   // Heading the LOS laws command for cross-track error `e` on a segment of direction `path`.
   double los_heading(double path, double e) const;
   // Wheel-over distance for a turn of `angle` rad (0..pi) at speed `speed`: R * tan(angle / 2)
-  // with R = speed / turn_rate, a turn above 120 deg taken as 120 (tan 60 deg: hairpins); 0 without turn_rate.
+  // with R = speed / turn_rate, a turn above 120 deg taken as 120 (tan 60 deg: hairpins); 0 without
+  // turn_rate.
   double wheel_over(double angle, double speed) const;
   // The law's state: y_int (integral, s) or beta_hat (adaptive, rad).
   double state() const { return state_; }
@@ -170,7 +171,7 @@ class PathFollower {
   double goal_heading_ = 0;
   double last_heading_ = 0;
   bool last_heading_valid_ = false;
-  double state_ = 0;       // y_int (integral) or beta_hat (adaptive), path frame
+  double state_ = 0;  // y_int (integral) or beta_hat (adaptive), path frame
   double crab() const;
   void carry_state(int from_seg, int to_seg);
 };

@@ -18,11 +18,11 @@
 namespace tiller::scores {
 
 struct CornerScores {
-  std::vector<double> passage;      // s: time of closest approach to each waypoint (-1: never)
+  std::vector<double> passage;         // s: time of closest approach to each waypoint (-1: never)
   double steady_cross_track_rms = -1;  // m; -1: no steady samples
   int steady_samples = 0;
-  std::vector<double> overshoot;    // m, per interior waypoint (>= 0)
-  double max_overshoot = 0;         // m
+  std::vector<double> overshoot;  // m, per interior waypoint (>= 0)
+  double max_overshoot = 0;       // m
 };
 
 CornerScores corner_scores(const std::vector<Pose>& run, const std::vector<Goal>& path,

@@ -57,7 +57,9 @@ int main(int argc, char** argv) {
                           r.mission.waypoints[k].east - r.mission.waypoints[k - 1].east);
       }
       if (std::getenv("POSES")) {
-        for (const auto& p : r.poses) if (p.t > 160 && p.t < 280 && static_cast<int>(p.t * 10) % 10 == 0) std::printf("%.0f %.2f %.2f %.2f\n", p.t, p.north, p.east, p.heading);
+        for (const auto& p : r.poses)
+          if (p.t > 160 && p.t < 280 && static_cast<int>(p.t * 10) % 10 == 0)
+            std::printf("%.0f %.2f %.2f %.2f\n", p.t, p.north, p.east, p.heading);
       }
       if (std::getenv("DEBUG")) {
         for (double p : r.corners.passage) std::printf(" %.1f", p);
@@ -67,9 +69,8 @@ int main(int argc, char** argv) {
       const double cruise = arg(6) ? std::atof(arg(6)) : 1.5;
       std::printf("%-9s %8s %9.4f %9.3f %9.3f %8.3f %7.1f %7.3f %6d\n", law.c_str(),
                   dir < 0 ? "still" : std::to_string(static_cast<int>(toward)).c_str(),
-                  r.corners.steady_cross_track_rms, r.path.cross_track_rms,
-                  r.corners.max_overshoot, r.max_setpoint_speed,
-                  r.completed ? r.completed_at : -1.0,
+                  r.corners.steady_cross_track_rms, r.path.cross_track_rms, r.corners.max_overshoot,
+                  r.max_setpoint_speed, r.completed ? r.completed_at : -1.0,
                   r.completed ? r.completed_at / (len / cruise) : -1.0, r.path.waypoints_missed);
       std::fflush(stdout);
     }

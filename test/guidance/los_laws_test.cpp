@@ -94,7 +94,7 @@ double crab_after_switch(CrossTrackLaw law, std::initializer_list<std::pair<doub
                          Vec2 at) {
   PathFollower f(los_params(law));
   f.set_path(pts(path), Vec2(0, 0), 0, false);
-  f.update(Vec2(50, 0), 0, 0);  // on the first leg
+  f.update(Vec2(50, 0), 0, 0);                                             // on the first leg
   f.set_state(law == CrossTrackLaw::kIntegral ? 5 * std::tan(0.2) : 0.2);  // crab 0.2 rad
   const auto o = f.update(at, 0, 0);
   EXPECT_EQ(o.segment, 1);
@@ -105,12 +105,10 @@ TEST(LosLaws, StateAtASwitchIsProjectedOntoTheNewPathNormal) {
   for (auto law : {CrossTrackLaw::kIntegral, CrossTrackLaw::kAdaptive}) {
     SCOPED_TRACE(static_cast<int>(law));
     // 90 deg: reset.
-    EXPECT_NEAR(crab_after_switch(law, {{0, 0}, {100, 0}, {100, 100}}, Vec2(100.2, 0.5)), 0,
-                1e-12);
+    EXPECT_NEAR(crab_after_switch(law, {{0, 0}, {100, 0}, {100, 100}}, Vec2(100.2, 0.5)), 0, 1e-12);
     // Hairpin (180 deg, the return leg 0.1 m aside): flipped.
-    EXPECT_NEAR(
-        crab_after_switch(law, {{0, 0}, {100, 0}, {0, 0.1}}, Vec2(100.5, 0)),
-        std::asin(std::sin(0.2) * std::cos(kPi - std::atan2(0.1, 100))), 1e-12);
+    EXPECT_NEAR(crab_after_switch(law, {{0, 0}, {100, 0}, {0, 0.1}}, Vec2(100.5, 0)),
+                std::asin(std::sin(0.2) * std::cos(kPi - std::atan2(0.1, 100))), 1e-12);
     // A 30 deg bend: sin(beta) cos(30 deg).
     const double s30 = std::sin(kPi / 6), c30 = std::cos(kPi / 6);
     EXPECT_NEAR(

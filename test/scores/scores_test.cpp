@@ -117,9 +117,9 @@ TEST(CornerScores, HandMadeRun) {
   std::vector<Goal> path = {{0, 0}, {100, 0}, {100, 100}};
   std::vector<Pose> run;
   double t = 0;
-  for (int n = 0; n <= 100; ++n) run.push_back({t++, double(n), 0.5, 0});      // leg 1
-  run.push_back({t++, 102, 2, 0});                                             // overshoot 2 m
-  for (int e = 3; e <= 100; ++e) run.push_back({t++, 100.2, double(e), 0});    // leg 2
+  for (int n = 0; n <= 100; ++n) run.push_back({t++, double(n), 0.5, 0});    // leg 1
+  run.push_back({t++, 102, 2, 0});                                           // overshoot 2 m
+  for (int e = 3; e <= 100; ++e) run.push_back({t++, 100.2, double(e), 0});  // leg 2
   const auto c = corner_scores(run, path, 0, 60);
   ASSERT_EQ(c.passage.size(), 3u);
   EXPECT_DOUBLE_EQ(c.passage[0], 0);
