@@ -76,11 +76,15 @@ FollowerParams load_follower_params(const config::Value& v) {
   }
   p.heading_slowdown_angle = v.angle_deg("heading_slowdown_angle_deg", {1, 360});
   p.goal_heading_distance = v.number("goal_heading_distance", nonneg);
-  const std::string law = v.choice("cross_track_law", {"seed", "los", "integral", "adaptive"});
-  p.law = law == "seed"       ? CrossTrackLaw::kSeed
-          : law == "los"      ? CrossTrackLaw::kLos
-          : law == "integral" ? CrossTrackLaw::kIntegral
-                              : CrossTrackLaw::kAdaptive;
+  const std::string law =
+      v.choice("cross_track_law", {"seed", "world_integral", "los", "integral", "adaptive"});
+  p.law = law == "seed"             ? CrossTrackLaw::kSeed
+          : law == "world_integral" ? CrossTrackLaw::kWorldIntegral
+          : law == "los"            ? CrossTrackLaw::kLos
+          : law == "integral"       ? CrossTrackLaw::kIntegral
+                                    : CrossTrackLaw::kAdaptive;
+  p.integral_gain = v.number("integral_gain", nonneg);
+  p.integral_limit = v.number("integral_limit", nonneg);
   p.lookahead = v.number("lookahead_distance", {0.1, 1000});
   p.integral_kappa = v.number("integral_kappa", {1e-6, 100});
   p.adaptive_gamma = v.number("adaptive_gamma", {0, 10});

@@ -18,6 +18,7 @@ void PathFollower::clear() {
   entered_by_cut_ = false;
   entered_by_skip_ = false;
   state_ = 0;
+  world_integral_.setZero();
 }
 
 bool PathFollower::set_path(const std::vector<Waypoint>& points, const Vec2& vehicle,
@@ -96,6 +97,7 @@ double PathFollower::los_heading(double path, double e) const {
     case CrossTrackLaw::kAdaptive:
       return wrap_pi(path - state_ - std::atan(e / d));
     case CrossTrackLaw::kSeed:
+    case CrossTrackLaw::kWorldIntegral:
       break;
   }
   return wrap_pi(path);
@@ -236,7 +238,7 @@ FollowerOutput PathFollower::update(const Vec2& pos, double heading, double dt) 
     out.remaining_path =
         std::max(0.0, len - along) + tail_length_[static_cast<std::size_t>(seg_ + 1)];
 
-    const bool seed_law = p_.law == CrossTrackLaw::kSeed;
+    const bool seed_law = p_.law == CrossTrackLaw::kSeed || p_.law == CrossTrackLaw::kWorldIntegral;
     // Along the path.
     double along_speed = seed_law
                              ? p_.max_speed * std::max(0.0, 1.0 - e / p_.parallel_cutoff_distance)
@@ -262,7 +264,15 @@ FollowerOutput PathFollower::update(const Vec2& pos, double heading, double dt) 
     if (seed_law) {
       // Toward the path.
       out.approach_speed = std::min(p_.approach_max_speed, e / p_.approach_divisor_s);
-      const Vec2 v_perp = e > 1e-9 ? Vec2(to_path / e * out.approach_speed) : Vec2(0, 0);
+      Vec2 v_perp = e > 1e-9 ? Vec2(to_path / e * out.approach_speed) : Vec2(0, 0);
+      if (p_.law == CrossTrackLaw::kWorldIntegral) {
+        if (dt > 0 && e < p_.integral_zone) {
+          world_integral_ += p_.integral_gain * to_path * dt;
+          const double m = world_integral_.norm();
+          if (m > p_.integral_limit) world_integral_ *= p_.integral_limit / m;
+        }
+        v_perp += world_integral_;
+      }
       v = t * along_speed + v_perp;
     } else {
       const double ye = out.cross_track;

@@ -25,6 +25,11 @@
 // than acceptance_radius from its first point and in the middle of the previous segment, the
 // follower steps back to the previous segment, as the seed's notes say it most likely should.
 //
+// world_integral (the shipped default until the LOS laws pass the short-mission tests): the
+// seed's law plus a world-frame velocity correction integrating the vector to the path (bounded
+// by integral_limit). Known defect (issue 13 finding 2): never unwound at a corner, so after a
+// 90 deg turn it points along the new leg and the setpoint exceeds max_speed.
+//
 // Beyond the seed, three line-of-sight (LOS) cross-track laws (docs/algorithms.md has the
 // sources). With pi_p the segment's direction, e the cross-track error (+ right of the path)
 // and Delta the lookahead distance, the commanded heading is
@@ -63,7 +68,7 @@ namespace tiller::guidance {
 using Vec2 = Eigen::Vector2d;
 
 enum class EndSlowdown { kLinear, kConstantDecel };
-enum class CrossTrackLaw { kSeed, kLos, kIntegral, kAdaptive };
+enum class CrossTrackLaw { kSeed, kWorldIntegral, kLos, kIntegral, kAdaptive };
 enum class SegmentRelation { kBehind, kMiddle, kInFront };
 
 struct FollowerParams {
@@ -85,6 +90,8 @@ struct FollowerParams {
   double goal_heading_distance = 2.0;       // m: on the last segment, nearer than this (path
                                             // left and straight line), target the goal heading
   CrossTrackLaw law = CrossTrackLaw::kSeed;
+  double integral_gain = 0.05;    // 1/s^2 (world_integral): d(correction)/dt = gain * to path
+  double integral_limit = 0.5;    // m/s (world_integral): bound on the correction
   double lookahead = 5.0;         // m: Delta (los, integral, adaptive)
   double integral_kappa = 1.0;    // m/s: kappa (integral)
   double adaptive_gamma = 0.005;  // rad/(m s): gamma (adaptive)
@@ -171,7 +178,8 @@ class PathFollower {
   double goal_heading_ = 0;
   double last_heading_ = 0;
   bool last_heading_valid_ = false;
-  double state_ = 0;  // y_int (integral) or beta_hat (adaptive), path frame
+  Vec2 world_integral_{0, 0};  // world_integral's correction, m/s NED
+  double state_ = 0;           // y_int (integral) or beta_hat (adaptive), path frame
   double crab() const;
   void carry_state(int from_seg, int to_seg);
 };

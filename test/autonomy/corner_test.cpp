@@ -30,8 +30,8 @@ RunResult fly(guidance::CrossTrackLaw law, double current, double toward_deg,
   return run_mission(c);
 }
 
-TEST(Corners, ShippedOtterSettingsOvershootNoCornerByMoreThan30cm) {
-  const auto r = fly(guidance::CrossTrackLaw::kIntegral, 0, 0);
+TEST(Corners, IntegralLosWithWheelOverOvershootNoCornerByMoreThan30cm) {
+  const auto r = fly(guidance::CrossTrackLaw::kIntegral, 0, 0, 0.5);
   ASSERT_TRUE(r.completed);
   EXPECT_EQ(r.corners.overshoot.size(), 5u);
   EXPECT_LT(r.corners.max_overshoot, 0.3);  // measured 0.257 m
@@ -52,7 +52,8 @@ TEST(Corners, EveryLawInCurrentStaysAtOrBelowMaxSpeedAndConverges) {
                         {guidance::CrossTrackLaw::kAdaptive, 0.25}};
   for (const auto& k : cases) {
     SCOPED_TRACE(static_cast<int>(k.law));
-    const auto r = fly(k.law, 0.3, 90);
+    // turn_rate as in the docs/tuning.md table: seed 0, the LOS laws 0.5 rad/s.
+    const auto r = fly(k.law, 0.3, 90, k.law == guidance::CrossTrackLaw::kSeed ? 0 : 0.5);
     ASSERT_TRUE(r.completed);
     EXPECT_LE(r.max_setpoint_speed, 1.5 + 1e-9);
     EXPECT_GT(r.corners.steady_samples, 1000);

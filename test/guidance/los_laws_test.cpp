@@ -21,6 +21,8 @@ FollowerParams los_params(CrossTrackLaw law) {
   p.max_crab = 0.5;
   p.integral_zone = 3.0;
   p.turn_rate = 0;
+  p.integral_gain = 0.05;
+  p.integral_limit = 0.5;
   return p;
 }
 
@@ -171,6 +173,8 @@ TEST(LosLaws, NoSetpointAboveMaxSpeedAfterACornerInCurrent) {
     const auto k = fly(law, Vec2(0, -0.3), 4000);  // 400 s: both legs
     EXPECT_LE(k.max_speed_seen, 1.5 + 1e-12);
   }
+  // The old law (world_integral, still the shipped default): 1.8 m/s, 20 % above max_speed.
+  EXPECT_NEAR(fly(CrossTrackLaw::kWorldIntegral, Vec2(0, -0.3), 4000).max_speed_seen, 1.8, 0.01);
 }
 
 // Converged on the second leg in a 0.3 m/s current across it (toward the south): plain LOS keeps

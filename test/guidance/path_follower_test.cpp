@@ -313,6 +313,8 @@ TEST(PathFollower, BadPaths) {
 double standing_offset(CrossTrackLaw law) {
   auto p = seed_params();
   p.law = law;
+  p.integral_gain = 0.05;
+  p.integral_limit = 0.5;
   p.integral_zone = 3.0;
   PathFollower f(p);
   f.set_path(pts({{0, 0}, {1000, 0}}), Vec2(0, 0), 0, false);
@@ -330,6 +332,7 @@ double standing_offset(CrossTrackLaw law) {
 
 TEST(PathFollower, IntegralLawRemovesTheStandingOffsetOfACrossCurrent) {
   EXPECT_NEAR(standing_offset(CrossTrackLaw::kSeed), 0.52, 0.01);
+  EXPECT_LT(std::abs(standing_offset(CrossTrackLaw::kWorldIntegral)), 0.02);
   EXPECT_LT(std::abs(standing_offset(CrossTrackLaw::kIntegral)), 0.02);
 }
 
@@ -394,6 +397,8 @@ TEST(FollowerConfig, PerVehicleFilesDeriveTheBrakingFromTheVehicle) {
                          a.braking_decel,
                          a.heading_slowdown_angle,
                          a.goal_heading_distance,
+                         a.integral_gain,
+                         a.integral_limit,
                          a.lookahead,
                          a.integral_kappa,
                          a.adaptive_gamma,
@@ -414,6 +419,8 @@ TEST(FollowerConfig, PerVehicleFilesDeriveTheBrakingFromTheVehicle) {
                          b.braking_decel,
                          b.heading_slowdown_angle,
                          b.goal_heading_distance,
+                         b.integral_gain,
+                         b.integral_limit,
                          b.lookahead,
                          b.integral_kappa,
                          b.adaptive_gamma,
@@ -421,14 +428,8 @@ TEST(FollowerConfig, PerVehicleFilesDeriveTheBrakingFromTheVehicle) {
                          b.integral_zone};
     for (std::size_t k = 0; k < std::size(av); ++k) EXPECT_EQ(av[k], bv[k]) << "field " << k;
     EXPECT_EQ(a.end_slowdown, b.end_slowdown);
-    // The seed vehicles keep the seed's law without turn anticipation; the Otter is default.yaml.
-    if (std::string(v.name) == "otter") {
-      EXPECT_EQ(a.law, b.law);
-      EXPECT_EQ(a.turn_rate, b.turn_rate);
-    } else {
-      EXPECT_EQ(a.law, CrossTrackLaw::kSeed);
-      EXPECT_EQ(a.turn_rate, 0.0);
-    }
+    EXPECT_EQ(a.law, b.law);
+    EXPECT_EQ(a.turn_rate, b.turn_rate);
     EXPECT_EQ(q.rate_hz, def.rate_hz);
     EXPECT_EQ(q.odometry_timeout_s, def.odometry_timeout_s);
   }
