@@ -137,6 +137,11 @@ class Allocator {
     std::vector<std::vector<int>> levels;  // prioritised: positions into `axes`, by level
     int null_dim = 0;  // idx.size() - axes.size(): spare thrusters (0: the pseudo-inverse is all)
     Lp lp;             // over B[axes, idx], used only when null_dim > 0
+    // Orthonormal basis of the null space of B[axes, idx] (idx.size() x null_dim), its rows'
+    // norms, and the bound widening of nearest_within_limits (N).
+    Eigen::Matrix<double, Eigen::Dynamic, Eigen::Dynamic, 0, kMaxThrusters, kMaxThrusters> null;
+    std::array<double, kMaxThrusters> null_row_norm{};
+    double pad = 0;
     // The attainable set {B[axes, idx] f : lo <= f <= hi} is a zonotope; its facets (unit
     // normal n, support h: n . w <= h), when there are at most kMaxFacets, give the largest
     // scale along any ray without the LP (the LP then only finds the thrust).
@@ -160,10 +165,10 @@ class Allocator {
   // A feasible f for group g with B_g f = B_g b (b: the minimum-norm compensation); false if
   // there is none.
   bool feasible_start(const Group& g, const ThrustVec& b, ThrustVec& f0) const;
-  // Among points solving the same equations, from the minimum-norm f_mn toward the feasible
-  // f_v, the first one within limits (f_mn itself when it fits).
-  void toward_feasible(const Group& g, const ThrustVec& f_mn, ThrustVec& f_v) const;
-  bool cascade(const Group& g, const ThrustVec& f_mn, ThrustVec& f) const;
+  // f in: the minimum-norm thrust for a wrench w (B_g f = w); out: the thrust nearest it among
+  // those within limits that make w (unique; continuous in w). False if w is out of reach (f then
+  // as near as the solver got). Allocates nothing.
+  bool nearest_within_limits(const Group& g, ThrustVec& f) const;
   void clamp_group(const Group& g, ThrustVec& f) const;
   bool finish(ThrustVec& thrust, AllocationResult& out) const;
   void allocate_matrix(const Wrench& tau_norm, AllocationResult& out) const;

@@ -136,6 +136,14 @@ Allocator::Allocator(const Vehicle& vehicle)
       }
       const Eigen::MatrixXd bg = rows_cols(b_full_, g.axes, g.idx);
       g.lp = make_lp(bg, glo, ghi);
+      Eigen::JacobiSVD<Eigen::MatrixXd> svd(bg, Eigen::ComputeFullV);
+      g.null = svd.matrixV().rightCols(g.null_dim);
+      double largest = 0;
+      for (std::size_t k = 0; k < g.idx.size(); ++k) {
+        g.null_row_norm[k] = g.null.row(static_cast<Eigen::Index>(k)).norm();
+        largest = std::max({largest, ghi[k], -glo[k]});
+      }
+      g.pad = 1e-12 * largest;
       // Facets of the zonotope: normals orthogonal to m - 1 independent generators.
       const int m = static_cast<int>(g.axes.size()), ng = static_cast<int>(g.idx.size());
       double count = 1;  // C(ng, m - 1)

@@ -68,21 +68,22 @@ bool Allocator::allocate(const Wrench& tau, AllocationResult& out) const {
         ThrustVec f0;
         const double mu_mn = max_scale(g, a, b);
         if (g.null_dim > 0 && mu_mn < 1.0 && mu_mn >= 0 && !g.facets.empty()) {
-          // The zonotope's facets give the true largest scale at once; when the minimum-norm
-          // pattern already reaches it (symmetric layouts), that is the answer, no LP.
-          const double mu_f = std::min(1.0, facet_max_scale(g, -comp, target));
-          if (mu_mn >= mu_f * (1 - 1e-12)) {
-            fg = mu_mn * a + b;
-            out.scale = std::min(out.scale, mu_mn);
-            break;
-          }
+          // The zonotope's facets give the true largest scale at once (the minimum-norm pattern
+          // may already reach it: symmetric layouts); then the thrust nearest the minimum-norm
+          // one that makes that wrench.
+          const double mu = std::min(1.0, facet_max_scale(g, -comp, target));
+          fg = std::max(mu, mu_mn) * a + b;
+          if (mu_mn < mu * (1 - 1e-12)) nearest_within_limits(g, fg);
+          out.scale = std::min(out.scale, std::max(mu, mu_mn));
+          break;
         }
         if (g.null_dim > 0 && mu_mn < 1.0 && feasible_start(g, b, f0)) {
-          // Spare thrusters: the largest scale over the whole null space, not only along the
-          // minimum-norm pattern; then the point nearest the minimum-norm one on the way there.
+          // Spare thrusters, too many facets to list: the largest scale over the whole null
+          // space from the bounded simplex, then the thrust nearest the minimum-norm one.
           double mu = lp_max_scale(g.lp, f0, target, 1.0, fg);
           if (mu > 1.0 - 1e-12) mu = 1.0;
-          toward_feasible(g, mu * a + b, fg);
+          fg = mu * a + b;
+          nearest_within_limits(g, fg);
           out.scale = std::min(out.scale, mu);
           break;
         }
@@ -110,10 +111,15 @@ bool Allocator::allocate(const Wrench& tau, AllocationResult& out) const {
         fg = b;
         Small left = target;
         ThrustVec f0;
-        if (g.null_dim > 0 && feasible_start(g, b, f0)) {
+        // (max_scale(g, x, x) >= 0: x is within limits.)
+        const bool facets = g.null_dim > 0 && !g.facets.empty() && max_scale(g, b, b) >= 0;
+        if (facets || (g.null_dim > 0 && feasible_start(g, b, f0))) {
           // Spare thrusters: each level takes what the whole null space allows, with every other
-          // axis held where it is (earlier levels at what they got, later ones so far).
-          fg = f0;
+          // axis held where it is (earlier levels at what they got, later ones so far): from the
+          // facets (the room along the level from the wrench so far) when the minimum-norm
+          // pattern does not fit, else the bounded simplex. The thrust is chosen once at the end:
+          // the one nearest the minimum-norm thrust for the wrench the levels got.
+          if (!facets) fg = f0;
           Small got = Small::Zero(na);
           ThrustVec fv;
           // A level is solved again only if another level moved since it was last solved.
@@ -127,16 +133,13 @@ bool Allocator::allocate(const Wrench& tau, AllocationResult& out) const {
               Small part = Small::Zero(na);
               for (int k : level) part(k) = left(k);
               if (part.cwiseAbs().maxCoeff() <= 0.0 || solved_at[li] == changes) continue;
-              const ThrustVec v = g.pinv * part;
               double alpha;
-              if (max_scale(g, v, fg) >= 1.0) {  // fits along the minimum-norm pattern
-                alpha = 1.0;
-                fv = fg + v;
-              } else if (pass > 0 && !g.facets.empty() &&
-                         facet_max_scale(g, got - comp, part) <= 1e-12) {
-                // Solved again after other levels moved, and the facets say there is still no
-                // room along this level (B fg = got - comp): no LP.
-                alpha = 0.0;
+              const ThrustVec mn = g.pinv * (got + part) + b;
+              if (max_scale(g, mn, mn) >= 0) {
+                alpha = 1.0;  // the minimum-norm thrust fits
+                fv = mn;
+              } else if (facets) {
+                alpha = std::min(1.0, facet_max_scale(g, got - comp, part));
               } else {
                 alpha = lp_max_scale(g.lp, fg, part, 1.0, fv);
                 if (alpha > 1.0 - 1e-12) alpha = 1.0;
@@ -145,7 +148,7 @@ bool Allocator::allocate(const Wrench& tau, AllocationResult& out) const {
               if (alpha > 1e-12) {
                 ++changes;
                 solved_at[li] = changes;
-                fg = fv;
+                if (!facets) fg = fv;
                 for (int k : level) {
                   got(k) += alpha * part(k);
                   left(k) = alpha == 1.0 ? 0.0 : left(k) * (1.0 - alpha);
@@ -155,7 +158,8 @@ bool Allocator::allocate(const Wrench& tau, AllocationResult& out) const {
             }
             if (!progress) break;
           }
-          toward_feasible(g, g.pinv * got + b, fg);
+          fg = g.pinv * got + b;
+          nearest_within_limits(g, fg);
         } else {
           if (max_scale(g, ThrustVec::Zero(b.size()), b) < 0) clamp_group(g, fg);
           for (int pass = 0; pass < 4; ++pass) {

@@ -162,6 +162,34 @@ TEST(AllocationContinuity, PresetFilesIncludeEveryMixerVehicle) {
   EXPECT_GE(files.size(), 8u);
 }
 
+// The invariants allocation_test checks on the presets, on the one-group 8-thruster ROV: exact
+// where it fits, direction kept and the true largest scale (vertex enumeration) where not.
+TEST(AllocationContinuity, OneGroupRov8KeepsExactnessDirectionAndLargestScale) {
+  const Vehicle v = test::rov8(true);
+  const Allocator a(v);
+  ASSERT_EQ(a.group_axes().size(), 1u);
+  std::mt19937 rng(77);
+  AllocationResult r;
+  int exact = 0, reduced = 0;
+  for (int trial = 0; trial < 300; ++trial) {
+    const Wrench w = test::random_wrench(a, rng, trial % 3 == 0 ? 0.3 : 1.5);
+    ASSERT_TRUE(a.allocate(w, r));
+    const double best = test::brute_max_scale(v, a.unactuated(), w);
+    EXPECT_NEAR(r.scale, std::min(1.0, best), 1e-9) << "trial " << trial;
+    // achieved = scale * demand on every axis: direction kept, exact when scale is 1.
+    for (int ax = 0; ax < 6; ++ax)
+      EXPECT_NEAR(r.achieved(ax), r.scale * w(ax), 1e-9 * (1 + w.cwiseAbs().maxCoeff()));
+    for (int i = 0; i < a.size(); ++i) {
+      const Thruster& t = v.thrusters[static_cast<std::size_t>(i)];
+      EXPECT_GE(r.thrust[static_cast<std::size_t>(i)], t.thrust_min() - 1e-9);
+      EXPECT_LE(r.thrust[static_cast<std::size_t>(i)], t.thrust_max() + 1e-9);
+    }
+    ++(r.scale < 1.0 ? reduced : exact);
+  }
+  EXPECT_GT(exact, 50);
+  EXPECT_GT(reduced, 50);
+}
+
 class Continuity : public ::testing::TestWithParam<Mode> {};
 
 TEST_P(Continuity, NoThrustJumpAlongRandomLinesOfDemand) {
