@@ -145,12 +145,19 @@ class Allocator {
     // The attainable set {B[axes, idx] f : lo <= f <= hi} is a zonotope; its facets (unit
     // normal n, support h: n . w <= h), when there are at most kMaxFacets, give the largest
     // scale along any ray without the LP (the LP then only finds the thrust).
-    std::vector<std::array<double, 7>> facets;  // n[0..m-1], h at [6]
+    std::vector<std::array<double, 7>> facets;                     // n[0..m-1], h at [6]; distinct
+    std::array<std::vector<double>, 6> facet_n;                    // facet_n[r][f] = facets[f][r]
+    std::vector<double> facet_h;                                   // facet_h[f] = facets[f][6]
+    std::array<std::array<std::vector<int>, 2>, 6> facet_by_axis;  // [r][0]: n_r > 0, [1]: < 0
   };
   static constexpr std::size_t kMaxFacets = 128;
-  // Largest mu >= 0 with c + mu d in group g's zonotope (c inside); +inf if d is 0. Only with
-  // facets.
-  static double facet_max_scale(const Group& g, const Small& c, const Small& d);
+  // Largest mu in [0, cap] with c + mu d in group g's zonotope (c inside); cap if d is 0. Only
+  // with facets.
+  static double facet_max_scale(const Group& g, const Small& c, const Small& d, double cap);
+  // Prioritised levels over the facets: target on the group's axes, comp what earlier groups do
+  // there; got = what each axis gets (levels in order, passes), left = what it does not.
+  void prioritised_facets(const Group& g, const Small& target, const Small& comp, Small& got,
+                          Small& left) const;
   static Small group_wrench(const Group& g, const ThrustVec& fg);  // B[axes, idx] * fg
 
   // Max mu >= 0 with lo <= mu*a + b <= hi over group g; -1 if mu = 0 is infeasible;

@@ -48,7 +48,7 @@ bool Allocator::allocate_manual(const Wrench& stick, AllocationResult& out) cons
       if (g.null_dim > 0 && mu >= 0 && !g.facets.empty()) {
         // The largest along d from the zonotope's facets; the stick's fraction of it: the
         // minimum-norm thrust when it fits, else the thrust nearest it that makes the wrench.
-        const double mu_f = facet_max_scale(g, -comp, d);
+        const double mu_f = facet_max_scale(g, -comp, d, kInf);
         if (std::isfinite(mu_f)) {
           const bool fits = (m * mu_f) <= mu * (1 + 1e-12);
           mu = mu_f;

@@ -71,7 +71,7 @@ bool Allocator::allocate(const Wrench& tau, AllocationResult& out) const {
           // The zonotope's facets give the true largest scale at once (the minimum-norm pattern
           // may already reach it: symmetric layouts); then the thrust nearest the minimum-norm
           // one that makes that wrench.
-          const double mu = std::min(1.0, facet_max_scale(g, -comp, target));
+          const double mu = facet_max_scale(g, -comp, target, 1.0);
           fg = std::max(mu, mu_mn) * a + b;
           if (mu_mn < mu * (1 - 1e-12)) nearest_within_limits(g, fg);
           out.scale = std::min(out.scale, std::max(mu, mu_mn));
@@ -113,17 +113,21 @@ bool Allocator::allocate(const Wrench& tau, AllocationResult& out) const {
         ThrustVec f0;
         // (max_scale(g, x, x) >= 0: x is within limits.)
         const bool facets = g.null_dim > 0 && !g.facets.empty() && max_scale(g, b, b) >= 0;
-        if (facets || (g.null_dim > 0 && feasible_start(g, b, f0))) {
+        if (facets) {
           // Spare thrusters: each level takes what the whole null space allows, with every other
-          // axis held where it is (earlier levels at what they got, later ones so far): from the
-          // facets (the room along the level from the wrench so far) when the minimum-norm
-          // pattern does not fit, else the bounded simplex. The thrust is chosen once at the end:
-          // the one nearest the minimum-norm thrust for the wrench the levels got.
-          if (!facets) fg = f0;
+          // axis held where it is (earlier levels at what they got, later ones so far), from the
+          // zonotope's facets; then the thrust nearest the minimum-norm one for what they got.
+          Small got(na);
+          prioritised_facets(g, target, comp, got, left);
+          fg = g.pinv * got + b;
+          nearest_within_limits(g, fg);
+        } else if (g.null_dim > 0 && feasible_start(g, b, f0)) {
+          // The same with too many facets to list: each level's room from the bounded simplex,
+          // started from the previous level's thrust.
+          fg = f0;
           Small got = Small::Zero(na);
           ThrustVec fv;
-          // A level is solved again only if another level moved since it was last solved.
-          std::array<int, 6> solved_at;
+          std::array<int, 6> solved_at;  // a level is solved again only if another moved since
           solved_at.fill(-1);
           int changes = 0;
           for (int pass = 0; pass < 4; ++pass) {
@@ -133,22 +137,13 @@ bool Allocator::allocate(const Wrench& tau, AllocationResult& out) const {
               Small part = Small::Zero(na);
               for (int k : level) part(k) = left(k);
               if (part.cwiseAbs().maxCoeff() <= 0.0 || solved_at[li] == changes) continue;
-              double alpha;
-              const ThrustVec mn = g.pinv * (got + part) + b;
-              if (max_scale(g, mn, mn) >= 0) {
-                alpha = 1.0;  // the minimum-norm thrust fits
-                fv = mn;
-              } else if (facets) {
-                alpha = std::min(1.0, facet_max_scale(g, got - comp, part));
-              } else {
-                alpha = lp_max_scale(g.lp, fg, part, 1.0, fv);
-                if (alpha > 1.0 - 1e-12) alpha = 1.0;
-              }
+              double alpha = lp_max_scale(g.lp, fg, part, 1.0, fv);
+              if (alpha > 1.0 - 1e-12) alpha = 1.0;
               solved_at[li] = changes;
               if (alpha > 1e-12) {
                 ++changes;
                 solved_at[li] = changes;
-                if (!facets) fg = fv;
+                fg = fv;
                 for (int k : level) {
                   got(k) += alpha * part(k);
                   left(k) = alpha == 1.0 ? 0.0 : left(k) * (1.0 - alpha);
