@@ -23,15 +23,15 @@
 //                         exactly whenever they fit on their own;
 //   Spare thrusters: when a group has more thrusters than owned axes (null space: X drive,
 //   H drive, the 4-thruster ROV), "largest" is over every thrust that makes the wrench, not
-//   only the minimum-norm (pseudo-inverse) pattern: a small bounded simplex (lp_max_scale,
-//   fixed-size arrays, <= 6 rows, <= 17 columns) maximises mu with lo <= f <= hi and
-//   B_g f = B_g f0 + mu d. The returned thrust is the minimum-norm one whenever that fits (so
-//   the unsaturated path, and every group without spare thrusters, e.g. the Otter and WAM-V,
-//   are the pseudo-inverse bit for bit), else one chosen from the wrench alone: with one spare
-//   direction the point within limits nearest the minimum-norm one; with more, the cascaded
-//   pseudo-inverse (thrusters beyond a limit fixed there, the rest re-solved), falling back to
-//   the first point within limits on the segment toward the LP's vertex. The same solver
-//   gives axis_max() and, per level, the prioritised allocation.
+//   only the minimum-norm (pseudo-inverse) pattern: the attainable set is a zonotope whose
+//   facets (listed at load when there are at most kMaxFacets) give the room along any ray; a
+//   group with more facets uses a small bounded simplex (lp_max_scale, fixed-size arrays,
+//   <= 6 rows, <= 17 columns). The returned thrust is the minimum-norm one whenever that fits
+//   (so the unsaturated path, and every group without spare thrusters, e.g. the Otter and
+//   WAM-V, are the pseudo-inverse bit for bit), else the one nearest it among the thrusts
+//   within limits that make the allocated wrench (nearest_within_limits: a least-distance
+//   problem in the null space, dual active set): unique, so continuous in the demand. The
+//   simplex gives axis_max() at load.
 //   clip                  unconstrained solution clipped per thruster (for comparison only).
 // Explicit-matrix vehicles (seed tables): s = M * tau_norm with tau_norm_j = tau_j /
 // full_scale_j (full_scale: the wrench one unit of axis j gives, from the geometry). units:
