@@ -23,15 +23,19 @@
 #include "control/velocity_pid_node.hpp"
 #include "core/config.hpp"
 #include "esc/esc_node.hpp"
-#include "esc/fake/fake_i2c.hpp"
 #include "guidance/follower_config.hpp"
 #include "guidance/path_follower_node.hpp"
+#include "i2c/fake_bus.hpp"
 #include "mission/mission.hpp"
 #include "mission/mission_node.hpp"
 #include "mixer/mixer_node.hpp"
 #include "runtime/channels.hpp"
 #include "runtime/lockstep.hpp"
 #include "sensors/gnss_node.hpp"
+#include "sensors/gpio.hpp"
+#include "sensors/imu_node.hpp"
+#include "sensors/leak_node.hpp"
+#include "sensors/power_node.hpp"
 #include "sensors/pressure_node.hpp"
 #include "sim/sim_node.hpp"
 #include "teleop/teleop_node.hpp"
@@ -140,12 +144,20 @@ std::vector<Program> programs() {
   add("tiller-teleop", std::make_unique<TeleopNode>(teleop, TeleopNode::Input::replay));
   const auto m = mission::load_mission_file(kRoot + "/config/missions/default.yaml");
   add("tiller-mission", std::make_unique<mission::MissionNode>(m, 1, kUsPerSecond));
-  static esc::fake::FakeI2cBus i2c;  // the sensor drivers' nodes on an empty fake bus
+  static i2c::FakeBus i2c;  // the sensor drivers' nodes on an empty fake bus
   add("tiller-pressure",
       std::make_unique<sensors::PressureNode>(
           sensors::load_pressure_file(kRoot + "/config/sensors/pressure_bar30.yaml"), i2c));
   add("tiller-gnss", std::make_unique<sensors::GnssNode>(
                          sensors::load_gnss_file(kRoot + "/config/sensors/gnss_gpsd.yaml")));
+  add("tiller-imu", std::make_unique<sensors::ImuNode>(
+                        sensors::load_imu_file(kRoot + "/config/sensors/imu_bno055.yaml"), i2c));
+  add("tiller-power",
+      std::make_unique<sensors::PowerNode>(
+          sensors::load_power_file(kRoot + "/config/sensors/power_ina226.yaml"), i2c));
+  static sensors::FakeGpio gpio;
+  add("tiller-leak", std::make_unique<sensors::LeakNode>(
+                         sensors::load_leak_file(kRoot + "/config/sensors/leak_gpio.yaml"), gpio));
   return out;
 }
 
