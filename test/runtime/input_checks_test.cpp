@@ -37,6 +37,8 @@
 #include "esc/fake/fake_i2c.hpp"
 #include "guidance/follower_config.hpp"
 #include "guidance/path_follower_node.hpp"
+#include "launch/launch_file.hpp"
+#include "launch/monitor.hpp"
 #include "mission/mission.hpp"
 #include "mission/mission_node.hpp"
 #include "mixer/mixer_node.hpp"
@@ -109,6 +111,21 @@ esc::fake::FakeI2cBus& fake_bus() {
   return bus;
 }
 
+// A LaunchMonitor with its own supervisor (never started: no process is spawned).
+struct NoHost : launch::ProcessHost {
+  int spawn(const launch::ProcessSpec&, std::string&) override { return -1; }
+  void signal(int, int) override {}
+};
+struct SupervisorBox {
+  explicit SupervisorBox(std::vector<launch::ProcessSpec> p) : sup(std::move(p), "", 1.0, host) {}
+  NoHost host;
+  launch::Supervisor sup;
+};
+struct OwnedMonitor : SupervisorBox, launch::LaunchMonitor {
+  explicit OwnedMonitor(std::vector<launch::ProcessSpec> p)
+      : SupervisorBox(std::move(p)), LaunchMonitor(sup) {}
+};
+
 std::vector<NodeCase> node_cases() {
   std::vector<NodeCase> out;
   for (const auto& f : shipped("control")) {
@@ -170,6 +187,12 @@ std::vector<NodeCase> node_cases() {
     if (fs::path(f).filename().string().rfind("gnss", 0) != 0) continue;
     out.push_back({"GnssNode", "tiller-gnss " + rel(f), [f](InputContext&) {
                      return std::make_unique<sensors::GnssNode>(sensors::load_gnss_file(f));
+                   }});
+  }
+  // tiller-launch's monitor, watching every process of each shipped launch file.
+  for (const auto& f : shipped("launch")) {
+    out.push_back({"LaunchMonitor", "tiller-launch " + rel(f), [f](InputContext&) {
+                     return std::make_unique<OwnedMonitor>(launch::load_launch_file(f).processes);
                    }});
   }
   for (const auto& f : shipped("missions")) {
