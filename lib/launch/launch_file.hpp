@@ -33,6 +33,10 @@
 //       liveness_s: 3            # heartbeat silent this long: treated as failed (0: not
 //                                # watched; default: the file's liveness_s, itself 3)
 //       heartbeat: sim           # the node whose TILLER_HEARTBEAT_<NODE> to watch (default: name)
+//       realtime: {priority: 80, lock_memory: true, required: false}
+//                                # tiller-* programs only: passed on as --realtime-priority 80
+//                                # --lock-memory [--realtime-required]; the program applies it
+//                                # itself (runtime/realtime.hpp, docs/operations.md "Real time")
 #pragma once
 
 #include <map>
@@ -47,6 +51,18 @@ namespace tiller::launch {
 
 enum class Restart { kNever, kOnFailure, kAlways };
 const char* to_string(Restart r);
+
+// A process's `realtime:` entry: SCHED_FIFO priority and locked memory, which the program
+// applies itself from the flags realtime_args() makes.
+struct RealtimeSpec {
+  int priority = 0;          // SCHED_FIFO priority 1..99; 0: the normal scheduler
+  bool lock_memory = false;  // mlockall (the loader's default with a realtime: entry: true)
+  bool required = false;     // true: the program refuses to start when it is not permitted
+  bool any() const { return priority > 0 || lock_memory; }
+};
+
+// The command-line flags of a realtime: entry (none when !r.any()).
+std::vector<std::string> realtime_args(const RealtimeSpec& r);
 
 struct ProcessSpec {
   std::string name;
@@ -68,6 +84,7 @@ struct ProcessSpec {
   // applies). 0: not watched. `heartbeat` names the node (heartbeat_t.process) to watch.
   double liveness_s = 3.0;
   std::string heartbeat;  // empty: the process's name
+  RealtimeSpec realtime;  // its flags are already at the end of args
   int line = 0;           // line in the launch file (for messages)
   const std::string& heartbeat_node() const { return heartbeat.empty() ? name : heartbeat; }
 };
