@@ -129,11 +129,14 @@ struct OwnedMonitor : SupervisorBox, launch::LaunchMonitor {
 std::vector<NodeCase> node_cases() {
   std::vector<NodeCase> out;
   for (const auto& f : shipped("control")) {
-    out.push_back({"VelocityPidNode", "tiller-velocity-pid " + rel(f), [f](InputContext&) {
+    // The controllers read the mixer's thruster commands (its gate): a two-thruster command.
+    out.push_back({"VelocityPidNode", "tiller-velocity-pid " + rel(f), [f](InputContext& ctx) {
+                     ctx.thrusters = {"port", "starboard"};
                      return std::make_unique<control::VelocityPidNode>(
                          control::load_velocity_pid_node_params(config::Value::load_file(f)));
                    }});
-    out.push_back({"StationKeepNode", "tiller-station-keep " + rel(f), [f](InputContext&) {
+    out.push_back({"StationKeepNode", "tiller-station-keep " + rel(f), [f](InputContext& ctx) {
+                     ctx.thrusters = {"port", "starboard"};
                      return std::make_unique<control::StationKeepNode>(
                          control::load_station_keep_node_params(config::Value::load_file(f)));
                    }});
