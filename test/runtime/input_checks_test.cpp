@@ -43,6 +43,10 @@
 #include "runtime/channels.hpp"
 #include "runtime/lockstep.hpp"
 #include "sensors/gnss_node.hpp"
+#include "sensors/gpio.hpp"
+#include "sensors/imu_node.hpp"
+#include "sensors/leak_node.hpp"
+#include "sensors/power_node.hpp"
 #include "sensors/pressure_node.hpp"
 #include "sim/sim_node.hpp"
 #include "teleop/teleop_node.hpp"
@@ -173,6 +177,27 @@ std::vector<NodeCase> node_cases() {
     if (fs::path(f).filename().string().rfind("gnss", 0) != 0) continue;
     out.push_back({"GnssNode", "tiller-gnss " + rel(f), [f](InputContext&) {
                      return std::make_unique<sensors::GnssNode>(sensors::load_gnss_file(f));
+                   }});
+  }
+  for (const auto& f : shipped("sensors")) {
+    if (fs::path(f).filename().string().rfind("imu", 0) != 0) continue;
+    out.push_back({"ImuNode", "tiller-imu " + rel(f), [f](InputContext&) {
+                     return std::make_unique<sensors::ImuNode>(sensors::load_imu_file(f),
+                                                               fake_bus());
+                   }});
+  }
+  for (const auto& f : shipped("sensors")) {
+    if (fs::path(f).filename().string().rfind("power", 0) != 0) continue;
+    out.push_back({"PowerNode", "tiller-power " + rel(f), [f](InputContext&) {
+                     return std::make_unique<sensors::PowerNode>(sensors::load_power_file(f),
+                                                                 fake_bus());
+                   }});
+  }
+  for (const auto& f : shipped("sensors")) {
+    if (fs::path(f).filename().string().rfind("leak", 0) != 0) continue;
+    out.push_back({"LeakNode", "tiller-leak " + rel(f), [f](InputContext&) {
+                     static sensors::FakeGpio gpio;  // outlives the nodes
+                     return std::make_unique<sensors::LeakNode>(sensors::load_leak_file(f), gpio);
                    }});
   }
   for (const auto& f : shipped("missions")) {
