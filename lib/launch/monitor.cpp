@@ -25,6 +25,9 @@ LaunchMonitor::LaunchMonitor(Supervisor& sup) : Node("launch", kTickUs), sup_(su
     subscribe(ch, &LaunchMonitor::on_heartbeat);
     accept_only_from(ch, {node});
   }
+  // Its own heartbeat coming back says the bus works (Supervisor::on_bus).
+  subscribe(heartbeat_channel(), &LaunchMonitor::on_heartbeat);
+  accept_only_from(heartbeat_channel(), {name()});
   invalid_ = &counter("rejected.heartbeat.invalid");
   unknown_ = &counter("rejected.heartbeat.unknown");
   refresh();
@@ -33,6 +36,10 @@ LaunchMonitor::LaunchMonitor(Supervisor& sup) : Node("launch", kTickUs), sup_(su
 void LaunchMonitor::on_heartbeat(const heartbeat_t& m, TimeUs now) {
   if (checks::check(m) != nullptr) {
     reject(*invalid_);
+    return;
+  }
+  if (m.process == name()) {
+    sup_.on_bus(now);
     return;
   }
   if (!sup_.on_heartbeat(m.process, now)) reject(*unknown_);

@@ -9,6 +9,8 @@
 //           restarts.<process> (for the first kNamedProcesses), and rejected.heartbeat.invalid (a
 //           heartbeat that fails checks::check) / rejected.heartbeat.unknown (a node no process
 //           watches).
+// It also hears its own heartbeat come back, which tells the Supervisor that the bus works
+// (Supervisor::on_bus: no process is judged silent while the launcher hears nothing at all).
 // With a signing key each watched channel accepts only its own node as the sender, so a
 // process cannot keep another one "alive". Pure (Node rules): heartbeats and time in.
 #pragma once

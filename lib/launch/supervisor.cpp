@@ -132,10 +132,18 @@ bool Supervisor::on_heartbeat(std::string_view node, TimeUs now) {
   return false;
 }
 
+void Supervisor::on_bus(TimeUs now) {
+  if (last_bus_ < 0 || now - last_bus_ > kBusEchoUs) bus_back_ = now;
+  last_bus_ = now;
+}
+
 void Supervisor::check_liveness(TimeUs now) {
+  last_check_ = now;
+  // Silence counts only while the bus is known to work.
+  const TimeUs heard_until = last_bus_ < 0 ? now : std::min(now, last_bus_ + kBusEchoUs);
   for (auto& p : procs_) {
     if (p.state != State::kRunning || !p.heard || p.spec.liveness_s <= 0) continue;
-    const TimeUs silent = now - p.last_heartbeat;
+    const TimeUs silent = heard_until - std::max(p.last_heartbeat, bus_back_);
     if (silent < from_seconds(p.spec.liveness_s)) continue;
     p.silent_s = to_seconds(silent);
     ++p.silent_stops;
@@ -275,7 +283,9 @@ TimeUs Supervisor::next_deadline() const {
     for (const auto& p : procs_) {
       if (p.state == State::kBackoff) t = std::min(t, p.restart_at);
       if (p.state == State::kRunning && p.heard && p.spec.liveness_s > 0)
-        t = std::min(t, p.last_heartbeat + from_seconds(p.spec.liveness_s));
+        t = std::min(
+            t, std::max(std::max(p.last_heartbeat, bus_back_) + from_seconds(p.spec.liveness_s),
+                        last_check_ + 100'000));
     }
   }
   for (const auto& p : procs_) {

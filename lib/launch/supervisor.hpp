@@ -92,6 +92,13 @@ class Supervisor {
   // A heartbeat of node `node` (heartbeat_t.process) arrived at `now`: the running process
   // whose heartbeat_node() it is counts as alive. False when no process watches that node.
   bool on_heartbeat(std::string_view node, TimeUs now);
+  // The launcher heard its own heartbeat (1 Hz) come back over LCM at `now`: the bus works.
+  // Once told this, a process's silence counts only while the bus is known to work (up to
+  // kBusEchoUs after the last echo), and from when the bus came back after a gap: a link or
+  // route that goes down (no multicast route, so no local loopback either) must not make every
+  // process look silent.
+  void on_bus(TimeUs now);
+  static constexpr TimeUs kBusEchoUs = 1'200'000;
   // Runs what is due at `now`: starts, restarts, silent heartbeats, SIGKILL escalation.
   void poll(TimeUs now);
 
@@ -133,6 +140,9 @@ class Supervisor {
   std::string reason_;
   int silent_stops_ = 0;
   std::string last_silent_;
+  TimeUs last_bus_ = -1;  // -1: never told (no bus gate, as in tests without one)
+  TimeUs bus_back_ = 0;
+  TimeUs last_check_ = 0;  // last check_liveness (a deadline is never earlier than +100 ms)
 };
 
 }  // namespace tiller::launch

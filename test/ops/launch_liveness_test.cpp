@@ -178,6 +178,26 @@ TEST(Liveness, OrderlyStopWhileAProcessIsBeingStoppedForSilence) {
   EXPECT_TRUE(s.finished());
 }
 
+// The launcher hears nothing at all (its own heartbeat does not come back: the multicast route
+// went with the link): no process is judged; when the bus is back, silence counts from then.
+TEST(Liveness, NoVerdictWhileTheBusIsDown) {
+  FakeHost h;
+  Supervisor s({proc("teleop")}, "", 1.0, h);
+  s.start(0);
+  for (double t = 0.5; t < 3; t += 1) s.on_bus(s_(t));  // echoes at 0.5, 1.5, 2.5 s
+  s.on_heartbeat("teleop", s_(1));
+  s.on_heartbeat("teleop", s_(2));  // then the link goes down at 2.7 s: nothing more arrives
+  for (double t = 3; t < 12; t += 0.5) s.poll(s_(t));
+  EXPECT_TRUE(h.signals.empty());
+  s.on_bus(s_(12));  // back, but the teleop is really gone now
+  s.poll(s_(14.9));
+  EXPECT_TRUE(h.signals.empty());
+  for (double t = 13; t < 16; t += 1) s.on_bus(s_(t));
+  s.poll(s_(15));  // 3 s since the bus came back
+  ASSERT_EQ(h.signals.size(), 2u);
+  EXPECT_EQ(s.processes()[0].state, State::kSilent);
+}
+
 LaunchFile parse(const std::string& text) {
   return load_launch(config::Value::parse(text, "l.yaml"), "/tmp");
 }
@@ -254,7 +274,8 @@ TEST(Liveness, LauncherNodeHearsHeartbeatsAndPublishesTheStopAtOnce) {
   m.attach(&bus);
   // Watched channels only, the logger's not.
   EXPECT_EQ(m.subscribed_channels(),
-            (std::vector<std::string>{"TILLER_HEARTBEAT_ESC", "TILLER_HEARTBEAT_MIXER"}));
+            (std::vector<std::string>{"TILLER_HEARTBEAT_ESC", "TILLER_HEARTBEAT_LAUNCH",
+                                      "TILLER_HEARTBEAT_MIXER"}));
   EXPECT_EQ(*m.allowed_senders("TILLER_HEARTBEAT_ESC"), (std::vector<std::string>{"esc"}));
   s.start(0);
   auto e = heartbeat_of("esc", s_(1));
