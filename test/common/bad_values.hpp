@@ -196,23 +196,18 @@ inline arm_state_t good(const std::string&, TimeUs t, const InputContext&) {
   return m;
 }
 
-// A heartbeat names the process its channel is for (TILLER_HEARTBEAT_PATH_FOLLOWER:
-// "path-follower"), with one counter.
+// A heartbeat on TILLER_HEARTBEAT_<NODE> names that node (tiller-launch's monitor checks).
 template <>
 inline heartbeat_t good(const std::string& channel, TimeUs t, const InputContext&) {
   heartbeat_t m{};
   m.utime = t;
-  const std::string prefix = channels::kHeartbeatPrefix;
-  std::string name = channel.rfind(prefix, 0) == 0 ? channel.substr(prefix.size()) : channel;
-  for (char& c : name)
-    c = c == '_' ? '-' : static_cast<char>(std::tolower(static_cast<unsigned char>(c)));
-  m.process = name;
-  m.state = heartbeat_t::STATE_OK;
+  const std::string prefix = "TILLER_HEARTBEAT_";
+  for (std::size_t i = channel.rfind(prefix, 0) == 0 ? prefix.size() : 0; i < channel.size(); ++i)
+    m.process += channel[i] == '_' ? '-' : static_cast<char>(std::tolower(channel[i]));
   m.status = "ok";
-  m.received = 10;
   m.n_counters = 1;
-  m.counter_names = {"rejected.test"};
-  m.counter_values = {0};
+  m.counter_names = {"ticks.run"};
+  m.counter_values = {t / 1000};
   return m;
 }
 
@@ -492,7 +487,12 @@ inline std::int64_t missing_kinds_hash<arm_state_t>() {
 
 template <>
 inline std::vector<BadValue<heartbeat_t>> bad_values() {
-  return {{"counter -1", kOR, [](heartbeat_t& m) { m.counter_values[0] = -1; }}};
+  return {{"counter -1", kOR, [](heartbeat_t& m) { m.counter_values[0] = -1; }},
+          {"65 counters", kOR, [](heartbeat_t& m) {
+             m.n_counters = 65;
+             m.counter_names.assign(65, "x");
+             m.counter_values.assign(65, 0);
+           }}};
 }
 template <>
 inline std::vector<MissingKind> missing_kinds<heartbeat_t>() {
