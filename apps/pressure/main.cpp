@@ -3,7 +3,7 @@
 // retried; the process keeps running.
 #include <cstdio>
 
-#include "esc/linux_i2c.hpp"
+#include "i2c/linux_i2c.hpp"
 #include "runtime/app.hpp"
 #include "runtime/live.hpp"
 #include "sensors/pressure_node.hpp"
@@ -17,7 +17,7 @@ int main(int argc, char** argv) {
   const app::Args args = app::parse(argc, argv, spec);
   return app::guarded_main(spec.program, [&] {
     const sensors::PressureParams p = sensors::load_pressure_file(args.config);
-    esc::LinuxI2c bus(p.bus);
+    i2c::LinuxI2c bus(p.bus);
     sensors::PressureNode node(p, bus);
     std::fprintf(stderr, "tiller-pressure: %s at 0x%02x, OSR %d, %.0f Hz, water %.0f kg/m^3\n",
                  p.bus.c_str(), p.address, p.osr.ratio, p.rate_hz, p.water_density);

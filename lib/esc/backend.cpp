@@ -5,8 +5,6 @@
 #include <cmath>
 #include <cstring>
 
-#include "esc/transport.hpp"
-
 namespace tiller::esc {
 
 EscBackend::EscBackend(std::vector<EscChannelParams> escs)
@@ -50,34 +48,6 @@ double normalized_from_pulse(std::int32_t pulse_us, const PulseRange& r) {
   const double d = pulse_us - r.neutral_us;
   if (d > 0) return r.max_us > r.neutral_us ? d / (r.max_us - r.neutral_us) : 0.0;
   return r.neutral_us > r.min_us ? d / (r.neutral_us - r.min_us) : 0.0;
-}
-
-bool is_bus_error(int err) {
-  return err == ENXIO || err == EREMOTEIO || err == EIO || err == ETIMEDOUT || err == EAGAIN ||
-         err == ENODEV;
-}
-
-std::string describe_errno(int err) {
-  switch (err) {
-    case 0:
-      return "ok";
-    case ENXIO:
-      return "ENXIO (no ACK: nothing answers at that address)";
-    case EREMOTEIO:
-      return "EREMOTEIO (no ACK from the device)";
-    case EIO:
-      return "EIO (bus error)";
-    case ETIMEDOUT:
-      return "ETIMEDOUT (bus timeout, SCL held low?)";
-    case EAGAIN:
-      return "EAGAIN (arbitration lost)";
-    case EBUSY:
-      return "EBUSY (a kernel driver owns that address)";
-    case ENODEV:
-      return "ENODEV (the bus adapter went away)";
-    default:
-      return std::string(std::strerror(err));
-  }
 }
 
 }  // namespace tiller::esc

@@ -40,7 +40,7 @@ void DryRunTransport::print(std::uint8_t addr, const char* what, const std::uint
     std::fprintf(out_, " ->");
     for (std::size_t k = 0; k < rn; ++k) std::fprintf(out_, " %02x", r[k]);
   }
-  if (err) std::fprintf(out_, " FAILED %s", describe_errno(err).c_str());
+  if (err) std::fprintf(out_, " FAILED %s", i2c::describe_errno(err).c_str());
   std::fputc('\n', out_);
   std::fflush(out_);
 }

@@ -13,11 +13,11 @@
 #include <vector>
 
 #include "esc/fake/fake_i2c.hpp"
-#include "esc/transport.hpp"
+#include "i2c/transport.hpp"
 
 namespace tiller::esc {
 
-class DryRunTransport : public I2cTransport {
+class DryRunTransport : public i2c::Transport {
  public:
   DryRunTransport(std::FILE* out, bool every_cycle);
   int write(std::uint8_t addr, const std::uint8_t* data, std::size_t n) override;
@@ -28,7 +28,7 @@ class DryRunTransport : public I2cTransport {
   std::string name() const override { return "dry-run"; }
 
   // The models answering (a tgy ESC or a PCA9685 is attached at each configured address).
-  fake::FakeI2cBus& models() { return bus_; }
+  i2c::FakeBus& models() { return bus_; }
   void add_tgy(std::uint8_t addr);
   void add_pca9685(std::uint8_t addr);
 
@@ -39,8 +39,8 @@ class DryRunTransport : public I2cTransport {
   std::FILE* out_;
   bool every_cycle_;
   TimeUs now_ = 0;
-  fake::FakeI2cBus bus_{"dry-run"};
-  std::vector<std::unique_ptr<fake::Device>> devices_;
+  i2c::FakeBus bus_{"dry-run"};
+  std::vector<std::unique_ptr<i2c::FakeDevice>> devices_;
   // Last bytes written per (7-bit address, first byte = register): [length, up to 8 bytes].
   // Allocated once at construction (128 x 256 slots).
   std::vector<std::array<std::uint8_t, 9>> last_;

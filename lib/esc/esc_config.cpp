@@ -5,8 +5,8 @@
 #include <set>
 
 #include "esc/dry_run.hpp"
-#include "esc/linux_i2c.hpp"
 #include "esc/sim_backend.hpp"
+#include "i2c/linux_i2c.hpp"
 
 namespace tiller::esc {
 
@@ -189,10 +189,10 @@ EscConfig load_esc_config_file(const std::string& path) {
   return load_esc_config(config::Value::load_file(path));
 }
 
-std::unique_ptr<EscBackend> make_backend(const EscConfig& cfg, I2cTransport* transport,
+std::unique_ptr<EscBackend> make_backend(const EscConfig& cfg, i2c::Transport* transport,
                                          std::FILE* dry_run_out) {
   if (cfg.backend == "sim") return std::make_unique<SimBackend>(cfg.escs, cfg.sim_pulse_us);
-  std::shared_ptr<I2cTransport> owned;
+  std::shared_ptr<i2c::Transport> owned;
   const std::string proto = cfg.backend == "dry_run" ? cfg.dry_run.protocol : cfg.backend;
   if (cfg.backend == "dry_run") {
     auto dry = std::make_shared<DryRunTransport>(dry_run_out, cfg.dry_run.every_cycle);
@@ -211,7 +211,7 @@ std::unique_ptr<EscBackend> make_backend(const EscConfig& cfg, I2cTransport* tra
     owned = dry;
     transport = dry.get();
   } else if (!transport) {
-    owned = std::make_shared<LinuxI2c>(proto == "pca9685" ? cfg.pca9685.bus : cfg.tgy.bus);
+    owned = std::make_shared<i2c::LinuxI2c>(proto == "pca9685" ? cfg.pca9685.bus : cfg.tgy.bus);
     transport = owned.get();
   }
   std::unique_ptr<EscBackend> b;

@@ -27,7 +27,7 @@
 #include "esc/backend.hpp"
 #include "esc/pca9685_backend.hpp"
 #include "esc/tgy_backend.hpp"
-#include "esc/transport.hpp"
+#include "i2c/transport.hpp"
 
 namespace tiller::esc {
 
@@ -75,7 +75,7 @@ EscConfig load_esc_config_file(const std::string& path);
 // Builds the configured backend. For i2c_tgy and pca9685, `transport` is the bus to use; when
 // it is null, /dev/i2c-N from the config is opened (throws with a clear message if it cannot).
 // dry_run prints to `dry_run_out` (stdout when null) over a model of the devices.
-std::unique_ptr<EscBackend> make_backend(const EscConfig& cfg, I2cTransport* transport = nullptr,
+std::unique_ptr<EscBackend> make_backend(const EscConfig& cfg, i2c::Transport* transport = nullptr,
                                          std::FILE* dry_run_out = nullptr);
 
 }  // namespace tiller::esc

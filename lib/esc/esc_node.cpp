@@ -74,10 +74,10 @@ EscNode::EscNode(esc::EscNodeParams p, std::unique_ptr<esc::EscBackend> backend)
 EscNode::EscNode(const std::string& config_path)
     : EscNode(esc::load_esc_config_file(config_path), nullptr) {}
 
-EscNode::EscNode(const std::string& config_path, esc::I2cTransport& transport)
+EscNode::EscNode(const std::string& config_path, i2c::Transport& transport)
     : EscNode(esc::load_esc_config_file(config_path), &transport) {}
 
-EscNode::EscNode(const esc::EscConfig& cfg, esc::I2cTransport* transport)
+EscNode::EscNode(const esc::EscConfig& cfg, i2c::Transport* transport)
     : EscNode(cfg.node, esc::make_backend(cfg, transport)) {}
 
 EscNode::~EscNode() = default;
@@ -409,13 +409,13 @@ void EscNode::update_health() {
   } else if (code >= 200 && code < 300) {
     set_health(heartbeat_t::STATE_DEGRADED,
                "ESC missing: " + esc_where(*backend_, who) + " (" +
-                   esc::describe_errno(backend_->stats(who).last_errno) + ")" +
+                   i2c::describe_errno(backend_->stats(who).last_errno) + ")" +
                    (missing > 1 ? " and " + std::to_string(missing - 1) + " more" : "") + "; " +
                    state);
   } else if (code >= 300) {
     set_health(heartbeat_t::STATE_DEGRADED,
                "bus errors on " + esc_where(*backend_, who) + ": " +
-                   esc::describe_errno(backend_->stats(who).last_errno) + "; " + state);
+                   i2c::describe_errno(backend_->stats(who).last_errno) + "; " + state);
   } else if (code == 2) {
     set_health(heartbeat_t::STATE_DEGRADED, "armed, no thruster command: neutral");
   } else if (code == 1) {

@@ -49,7 +49,7 @@ class EscNode : public Node {
   // pca9685 open the configured /dev/i2c-N).
   explicit EscNode(const std::string& config_path);
   // Same, but the hardware backends use `transport` (e.g. the fake bus in tests).
-  EscNode(const std::string& config_path, esc::I2cTransport& transport);
+  EscNode(const std::string& config_path, i2c::Transport& transport);
   ~EscNode() override;
 
   // Initialises the devices and writes neutral. Called by on_tick if nobody did; the app calls
@@ -69,7 +69,7 @@ class EscNode : public Node {
   void on_tick(TimeUs now) override;
 
  private:
-  EscNode(const esc::EscConfig& cfg, esc::I2cTransport* transport);
+  EscNode(const esc::EscConfig& cfg, i2c::Transport* transport);
   void init_messages();
   void on_command(const thruster_command_t& m, TimeUs now);
   void on_arm_request(const arm_request_t& m, TimeUs now);

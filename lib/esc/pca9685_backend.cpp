@@ -22,7 +22,7 @@ double tick_us(const Pca9685Params& p) {
 
 using namespace pca9685;
 
-Pca9685Backend::Pca9685Backend(I2cTransport& bus, Pca9685Params p,
+Pca9685Backend::Pca9685Backend(i2c::Transport& bus, Pca9685Params p,
                                std::vector<EscChannelParams> escs)
     : EscBackend(std::move(escs)),
       bus_(bus),
@@ -82,7 +82,7 @@ StartReport Pca9685Backend::start(TimeUs now) {
   char line[240];
   if (err != 0) {
     std::snprintf(line, sizeof line, "no PCA9685 at 0x%02x on %s: %s (%zu ESC channels)\n", addr_,
-                  bus_.name().c_str(), describe_errno(err).c_str(), size());
+                  bus_.name().c_str(), i2c::describe_errno(err).c_str(), size());
     rep.message = line;
     rep.all_present = false;
     for (std::size_t i = 0; i < size(); ++i) {

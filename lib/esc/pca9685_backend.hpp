@@ -15,7 +15,7 @@
 #include <string>
 
 #include "esc/backend.hpp"
-#include "esc/transport.hpp"
+#include "i2c/transport.hpp"
 
 namespace tiller::esc {
 
@@ -44,7 +44,7 @@ double tick_us(const Pca9685Params& p);
 
 class Pca9685Backend : public EscBackend {
  public:
-  Pca9685Backend(I2cTransport& bus, Pca9685Params p, std::vector<EscChannelParams> escs);
+  Pca9685Backend(i2c::Transport& bus, Pca9685Params p, std::vector<EscChannelParams> escs);
   std::int8_t unit() const override;
   std::string bus() const override { return bus_.name(); }
   StartReport start(TimeUs now) override;
@@ -61,7 +61,7 @@ class Pca9685Backend : public EscBackend {
  private:
   int reg(std::uint8_t r, std::uint8_t v);
   int init_chip(std::uint8_t* prescale_read);
-  I2cTransport& bus_;
+  i2c::Transport& bus_;
   Pca9685Params p_;
   std::uint8_t addr_;
   double tick_us_;

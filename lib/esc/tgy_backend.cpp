@@ -35,7 +35,7 @@ double tgy_temperature(std::uint16_t raw) {
   return 1.0 / inv_t - 273.15;
 }
 
-TgyBackend::TgyBackend(I2cTransport& bus, TgyParams p, std::vector<EscChannelParams> escs)
+TgyBackend::TgyBackend(i2c::Transport& bus, TgyParams p, std::vector<EscChannelParams> escs)
     : EscBackend(std::move(escs)),
       bus_(bus),
       p_(std::move(p)),
@@ -93,7 +93,8 @@ StartReport TgyBackend::start(TimeUs now) {
     } else {
       stats_[i].present = false;
       std::snprintf(line, sizeof line, "ESC %s: nothing at 0x%02x on %s: %s\n",
-                    escs_[i].name.c_str(), addr, bus_.name().c_str(), describe_errno(err).c_str());
+                    escs_[i].name.c_str(), addr, bus_.name().c_str(),
+                    i2c::describe_errno(err).c_str());
       rep.message += line;
       rep.all_present = false;
     }

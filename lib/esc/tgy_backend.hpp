@@ -18,7 +18,7 @@
 #include <string>
 
 #include "esc/backend.hpp"
-#include "esc/transport.hpp"
+#include "i2c/transport.hpp"
 
 namespace tiller::esc {
 
@@ -41,7 +41,7 @@ constexpr std::uint8_t kTgyAlive = 0xAB;
 
 class TgyBackend : public EscBackend {
  public:
-  TgyBackend(I2cTransport& bus, TgyParams p, std::vector<EscChannelParams> escs);
+  TgyBackend(i2c::Transport& bus, TgyParams p, std::vector<EscChannelParams> escs);
   std::int8_t unit() const override;
   std::string bus() const override { return bus_.name(); }
   bool has_telemetry() const override { return p_.telemetry; }
@@ -55,7 +55,7 @@ class TgyBackend : public EscBackend {
   int read_block(std::size_t i, std::uint8_t (&b)[9]);
   void store(std::size_t i, const std::uint8_t (&b)[9], TimeUs now);
 
-  I2cTransport& bus_;
+  i2c::Transport& bus_;
   TgyParams p_;
   std::vector<std::int32_t> last_hw_;  // sign of the RPM
   std::vector<TimeUs> last_read_;      // previous read per ESC (pulses accumulate since)

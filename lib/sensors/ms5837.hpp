@@ -17,7 +17,7 @@
 #include <array>
 #include <cstdint>
 
-#include "esc/transport.hpp"
+#include "i2c/transport.hpp"
 
 namespace tiller::sensors::ms5837 {
 
@@ -69,7 +69,7 @@ Result compensate(Model model, const Prom& prom, std::uint32_t d1, std::uint32_t
 // or an errno value (EBADMSG: PROM CRC mismatch; EAGAIN: ADC read 0, conversion not finished).
 class Device {
  public:
-  Device(esc::I2cTransport& bus, std::uint8_t address, Model model, Osr osr)
+  Device(i2c::Transport& bus, std::uint8_t address, Model model, Osr osr)
       : bus_(bus), address_(address), model_(model), osr_(osr) {}
   int start();
   int start_conversion(bool pressure);
@@ -79,7 +79,7 @@ class Device {
   std::uint8_t address() const { return address_; }
 
  private:
-  esc::I2cTransport& bus_;
+  i2c::Transport& bus_;
   std::uint8_t address_;
   Model model_;
   Osr osr_;

@@ -56,7 +56,7 @@ PressureParams load_pressure_file(const std::string& path) {
   return load_pressure_params(config::Value::load_file(path));
 }
 
-PressureNode::PressureNode(const PressureParams& p, esc::I2cTransport& bus)
+PressureNode::PressureNode(const PressureParams& p, i2c::Transport& bus)
     : Node("pressure", from_hz(2 * p.rate_hz)),
       p_(p),
       bus_(bus),
@@ -86,7 +86,7 @@ void PressureNode::lost(TimeUs now, int err, const char* step) {
   ready_ = false;
   have_d2_ = false;
   next_init_ = now + p_.retry_period;
-  status_ = where_ + ": " + step + ": " + esc::describe_errno(err) + "; retrying every " +
+  status_ = where_ + ": " + step + ": " + i2c::describe_errno(err) + "; retrying every " +
             std::to_string(p_.retry_period / 1000) + " ms";
   set_health(heartbeat_t::STATE_FAULT, status_);
 }

@@ -19,7 +19,7 @@
 #include <tiller/pressure_t.hpp>
 
 #include "core/time.hpp"
-#include "esc/transport.hpp"
+#include "i2c/transport.hpp"
 #include "runtime/node.hpp"
 #include "sensors/ms5837.hpp"
 
@@ -48,7 +48,7 @@ PressureParams load_pressure_file(const std::string& path);
 
 class PressureNode : public Node {
  public:
-  PressureNode(const PressureParams& p, esc::I2cTransport& bus);
+  PressureNode(const PressureParams& p, i2c::Transport& bus);
   bool device_ready() const { return ready_; }
 
  protected:
@@ -61,7 +61,7 @@ class PressureNode : public Node {
   void update_health(TimeUs now);
 
   PressureParams p_;
-  esc::I2cTransport& bus_;
+  i2c::Transport& bus_;
   ms5837::Device dev_;
   std::string where_;  // "ms5837-30ba on /dev/i2c-1 at 0x76"
   bool ready_ = false;

@@ -5,8 +5,8 @@
 #include <filesystem>
 
 #include "esc/esc_config.hpp"
-#include "esc/linux_i2c.hpp"
 #include "esc_rig.hpp"
+#include "i2c/linux_i2c.hpp"
 
 namespace tiller::test {
 namespace {
@@ -30,7 +30,7 @@ TEST(EscConfig, EveryPresetLoadsAndCoversItsVehicle) {
     EXPECT_FALSE(c.escs.empty());
     EXPECT_TRUE(std::filesystem::exists(c.vehicle_file));
     // The backend builds (hardware presets over a fake bus).
-    esc::fake::FakeI2cBus bus;
+    i2c::FakeBus bus;
     auto b = esc::make_backend(c, &bus);
     EXPECT_EQ(b->size(), c.escs.size());
     ++n;
@@ -131,7 +131,7 @@ TEST(EscConfig, HardwareBackendWithoutTheBusSaysWhatToCheck) {
 TEST(EscConfig, LinuxTransportRefusesSomethingThatIsNotAnI2cAdapter) {
   // The real i2c-dev code, on a device node that exists but is not an adapter: I2C_FUNCS fails.
   try {
-    esc::LinuxI2c bus("/dev/null");
+    i2c::LinuxI2c bus("/dev/null");
     FAIL() << "accepted /dev/null as an I2C adapter";
   } catch (const std::runtime_error& e) {
     EXPECT_NE(std::string(e.what()).find("/dev/null is not an i2c-dev adapter"), std::string::npos)

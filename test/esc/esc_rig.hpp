@@ -69,7 +69,7 @@ inline const std::vector<std::string> kRov4 = {"front_right", "front_left", "bac
 
 struct Rig {
   Capture cap;
-  esc::fake::FakeI2cBus bus;
+  i2c::FakeBus bus;
   std::map<int, std::unique_ptr<esc::fake::TgyEscModel>> tgy;
   std::unique_ptr<esc::fake::Pca9685Model> pca;
   std::unique_ptr<EscNode> node;

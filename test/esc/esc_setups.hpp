@@ -24,8 +24,8 @@ class NullBus : public Bus {
 
 struct Steady {
   NullBus null;
-  esc::fake::FakeI2cBus bus;
-  std::vector<std::unique_ptr<esc::fake::Device>> models;
+  i2c::FakeBus bus;
+  std::vector<std::unique_ptr<i2c::FakeDevice>> models;
   std::unique_ptr<EscNode> node;
   Event command, command_b;  // alternated, so every cycle's command is new
   bool flip = false;

@@ -166,7 +166,7 @@ TEST(Pca9685, ExternalClockIsSetWhileAsleep) {
 }
 
 TEST(Pca9685, ModelPrescaleOnlyWhileAsleep) {
-  esc::fake::FakeI2cBus bus;
+  i2c::FakeBus bus;
   esc::fake::Pca9685Model m;
   bus.attach(0x40, &m);
   const Bytes wake{0x00, 0x20}, pre{0xFE, 0x79}, sleep{0x00, 0x30};

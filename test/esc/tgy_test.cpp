@@ -17,7 +17,7 @@ namespace tiller::test {
 namespace {
 
 using esc::fake::TgyEscModel;
-using esc::fake::Transaction;
+using i2c::Transaction;
 using Bytes = std::vector<std::uint8_t>;
 
 TEST(Tgy, StartWritesZeroAndArmsEveryEsc) {
@@ -116,7 +116,7 @@ TEST(Tgy, FullScaleBothWays) {
 TEST(Tgy, EscModelNeedsZeroBeforeItRunsAndStopsWithoutCommands) {
   // The model itself, as the firmware behaves: the ESC acts on the low byte, runs only after a
   // zero throttle, and with no command for 4.5 s stops and needs a zero again.
-  esc::fake::FakeI2cBus bus;
+  i2c::FakeBus bus;
   TgyEscModel m;
   bus.attach(0x29, &m);
   const Bytes run{0x00, 0x20, 0x00};  // 8192
@@ -368,7 +368,7 @@ TEST(Tgy, TelemetryRoundRobinThroughTheNode) {
 }
 
 TEST(Tgy, PulsesAreClearedOnRead) {
-  esc::fake::FakeI2cBus bus;
+  i2c::FakeBus bus;
   TgyEscModel m;
   bus.attach(0x29, &m);
   const Bytes zero{0x00, 0x00, 0x00}, full{0x00, 0x7F, 0xFF};

@@ -583,5 +583,25 @@ TEST(MixerConfig, BadFilesNameTheKey) {
   EXPECT_EQ(error_of(write("vehicle: " + kSrc + "/config/vehicles/otter.yaml\n")), "(no error)");
 }
 
+// Issue 12, finding 7: a disarmed mixer is a normal state. Its heartbeat said STATE_FAULT
+// whenever it was disarmed; now OK (with the reason in the status), DEGRADED only while an
+// armed vehicle has no good input.
+TEST_F(MixerTest, DisarmedHeartbeatIsOkNotFault) {
+  std::vector<heartbeat_t> beats;
+  ex->observe([&](const std::string& ch, const std::uint8_t* d, int n, TimeUs) {
+    if (ch != node->heartbeat_channel()) return;
+    heartbeat_t h;
+    ASSERT_EQ(h.decode(d, 0, n), n);
+    beats.push_back(h);
+  });
+  manual(5'000, 0, 0);
+  ex->run_until(3'500'000);
+  ASSERT_GE(beats.size(), 3u);
+  for (const auto& h : beats) {
+    EXPECT_EQ(h.state, heartbeat_t::STATE_OK) << h.status;
+    EXPECT_NE(h.status.find("disarmed"), std::string::npos) << h.status;
+  }
+}
+
 }  // namespace
 }  // namespace tiller

@@ -23,9 +23,9 @@
 #include "control/velocity_pid_node.hpp"
 #include "core/config.hpp"
 #include "esc/esc_node.hpp"
-#include "esc/fake/fake_i2c.hpp"
 #include "guidance/follower_config.hpp"
 #include "guidance/path_follower_node.hpp"
+#include "i2c/fake_bus.hpp"
 #include "mission/mission.hpp"
 #include "mission/mission_node.hpp"
 #include "mixer/mixer_node.hpp"
@@ -140,7 +140,7 @@ std::vector<Program> programs() {
   add("tiller-teleop", std::make_unique<TeleopNode>(teleop, TeleopNode::Input::replay));
   const auto m = mission::load_mission_file(kRoot + "/config/missions/default.yaml");
   add("tiller-mission", std::make_unique<mission::MissionNode>(m, 1, kUsPerSecond));
-  static esc::fake::FakeI2cBus i2c;  // the sensor drivers' nodes on an empty fake bus
+  static i2c::FakeBus i2c;  // the sensor drivers' nodes on an empty fake bus
   add("tiller-pressure",
       std::make_unique<sensors::PressureNode>(
           sensors::load_pressure_file(kRoot + "/config/sensors/pressure_bar30.yaml"), i2c));

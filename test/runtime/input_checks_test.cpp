@@ -34,9 +34,9 @@
 #include "control/velocity_pid_node.hpp"
 #include "core/config.hpp"
 #include "esc/esc_node.hpp"
-#include "esc/fake/fake_i2c.hpp"
 #include "guidance/follower_config.hpp"
 #include "guidance/path_follower_node.hpp"
+#include "i2c/fake_bus.hpp"
 #include "mission/mission.hpp"
 #include "mission/mission_node.hpp"
 #include "mixer/mixer_node.hpp"
@@ -104,8 +104,8 @@ std::string rel(const std::string& p) {
 }
 
 // One fake I2C bus for every hardware ESC config (no /dev/i2c-* here); it outlives the nodes.
-esc::fake::FakeI2cBus& fake_bus() {
-  static esc::fake::FakeI2cBus bus;
+i2c::FakeBus& fake_bus() {
+  static i2c::FakeBus bus;
   return bus;
 }
 

@@ -10,7 +10,7 @@
 #include <tiller/pressure_t.hpp>
 
 #include "core/config.hpp"
-#include "esc/fake/fake_i2c.hpp"
+#include "i2c/fake_bus.hpp"
 #include "runtime/node.hpp"
 #include "sensors/fake/ms5837_model.hpp"
 #include "sensors/ms5837.hpp"
@@ -112,7 +112,7 @@ struct Capture : Bus {
 };
 
 struct Rig {
-  esc::fake::FakeI2cBus bus{"/dev/i2c-1"};
+  i2c::FakeBus bus{"/dev/i2c-1"};
   fake::Ms5837Model dev{kProm30};
   PressureParams p;
   Capture out;

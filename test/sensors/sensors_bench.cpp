@@ -11,7 +11,7 @@
 #include <memory>
 
 #include "alloc_count.hpp"
-#include "esc/fake/fake_i2c.hpp"
+#include "i2c/fake_bus.hpp"
 #include "runtime/node.hpp"
 #include "sensors/fake/ms5837_model.hpp"
 #include "sensors/gnss_node.hpp"
@@ -47,7 +47,7 @@ struct NullBus : Bus {
 };
 
 void BM_PressureNodeSample(benchmark::State& state) {
-  esc::fake::FakeI2cBus bus("/dev/i2c-1");
+  i2c::FakeBus bus("/dev/i2c-1");
   fake::Ms5837Model dev(kProm);
   dev.d1 = 4958179;
   dev.d2 = 6815414;

@@ -156,6 +156,44 @@ TEST(Connection, InitDeflectedWaitsForCentre) {
   EXPECT_DOUBLE_EQ(r.demand_at(ms(1300)).demand[0], 1.0);
 }
 
+// Issue 12, finding 2: the start-up state arriving in two reads (a FIFO, a slow device) must not
+// count the axis not yet reported as centred. Read 1: the buttons and axis 0 (sway, centred);
+// read 2, 40 ms later: axis 1 (surge) held full forward. Before the fix the demand became valid
+// after read 1 and jumped to full surge at read 2.
+TEST(Connection, AxisNotYetReportedIsNotCentred) {
+  Rig r(load_teleop_file(config_path("extreme3dpro_seed000.yaml")));
+  auto init = [](std::uint8_t type, std::uint8_t number, std::int16_t value) {
+    return JsEvent{1000, value, static_cast<std::uint8_t>(type | kJsEventInit), number};
+  };
+  std::vector<JsEvent> first;
+  for (std::uint8_t b = 0; b < 12; ++b) first.push_back(init(kJsEventButton, b, 0));
+  first.push_back(init(kJsEventAxis, 0, 0));
+  const std::vector<JsEvent> second = {init(kJsEventAxis, 1, -32767)};
+  auto read = [&](const std::vector<JsEvent>& ev, TimeUs t) {
+    r.parser.feed(reinterpret_cast<const std::uint8_t*>(ev.data()), ev.size() * sizeof(JsEvent),
+                  r.state);
+    r.state.connected = true;
+    r.feed(t);
+  };
+  read(first, ms(1000));
+  EXPECT_FALSE(r.demand_at(ms(1000)).valid);
+  r.run_until(ms(1040));
+  EXPECT_FALSE(r.demand_at(ms(1039)).valid);
+  read(second, ms(1040));
+  r.run_until(ms(3000));
+  for (const auto& [t, m] : r.all<manual_demand_t>(channels::kManualDemand)) {
+    EXPECT_FALSE(m.valid) << "at t = " << t << " us";
+    for (double v : m.demand) EXPECT_EQ(v, 0.0) << "at t = " << t << " us";
+  }
+  // Centring the held axis makes the demand valid; pushing it again moves.
+  r.state.axes[1] = 0;
+  r.feed(ms(3000));
+  EXPECT_TRUE(r.demand_at(ms(3000)).valid);
+  r.state.axes[1] = -32767;
+  r.feed(ms(3100));
+  EXPECT_DOUBLE_EQ(r.demand_at(ms(3100)).demand[0], 1.0);
+}
+
 TEST(Connection, UnplugGivesNeutralAtOnceAndReplugNeedsCentring) {
   Rig r(load_teleop_file(config_path("extreme3dpro_seed000.yaml")));
   r.play("e3dp_positions.js");

@@ -1,4 +1,4 @@
-// A fake MS5837 on esc::fake::FakeI2cBus, for tests and benchmarks: answers reset, PROM reads
+// A fake MS5837 on i2c::FakeBus, for tests and benchmarks: answers reset, PROM reads
 // (the words it is given) and conversions, whose ADC value (d1 / d2) is ready only after the
 // OSR's maximum conversion time; an ADC read before that, or with no conversion started,
 // returns 0 as the real device does.
@@ -6,12 +6,12 @@
 
 #include <cstdint>
 
-#include "esc/fake/fake_i2c.hpp"
+#include "i2c/fake_bus.hpp"
 #include "sensors/ms5837.hpp"
 
 namespace tiller::sensors::fake {
 
-class Ms5837Model : public esc::fake::Device {
+class Ms5837Model : public i2c::FakeDevice {
  public:
   explicit Ms5837Model(const ms5837::Prom& prom) : prom_(prom) {}
   int on_write(const std::uint8_t* d, std::size_t n, TimeUs now) override;

@@ -1,4 +1,4 @@
-#include "esc/linux_i2c.hpp"
+#include "i2c/linux_i2c.hpp"
 
 #include <fcntl.h>
 #include <linux/i2c-dev.h>
@@ -11,7 +11,7 @@
 #include <cstring>
 #include <stdexcept>
 
-namespace tiller::esc {
+namespace tiller::i2c {
 
 LinuxI2c::LinuxI2c(const std::string& path) : path_(path) {
   fd_ = ::open(path.c_str(), O_RDWR | O_CLOEXEC);
@@ -38,7 +38,7 @@ LinuxI2c::LinuxI2c(const std::string& path) : path_(path) {
     ::close(fd_);
     throw std::runtime_error(path +
                              ": the adapter only does SMBus, not plain I2C transactions "
-                             "(I2C_RDWR); the ESC protocols need plain I2C");
+                             "(I2C_RDWR); the ESC and sensor protocols need plain I2C");
   }
 }
 
@@ -81,4 +81,4 @@ void LinuxI2c::wait_us(std::int64_t us) {
   }
 }
 
-}  // namespace tiller::esc
+}  // namespace tiller::i2c

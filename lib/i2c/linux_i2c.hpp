@@ -1,19 +1,19 @@
 // The real I2C transport: a Linux i2c-dev adapter (/dev/i2c-N).
 //
 // Every transaction is one I2C_RDWR ioctl (a write: one message; write-then-read: two messages
-// joined by a repeated START), so switching between ESC addresses costs no extra system call.
+// joined by a repeated START), so switching between addresses costs no extra system call.
 // claim(addr) does ioctl(I2C_SLAVE, addr) once at start: EBUSY there means a kernel driver owns
 // the address. Needs the kernel's i2c-dev module and read/write access to the device node. This
-// code cannot run on the build machine (no /dev/i2c-*); tests use esc/fake/fake_i2c.hpp.
+// code cannot run on the build machine (no /dev/i2c-*); tests use i2c/fake_bus.hpp.
 #pragma once
 
 #include <string>
 
-#include "esc/transport.hpp"
+#include "i2c/transport.hpp"
 
-namespace tiller::esc {
+namespace tiller::i2c {
 
-class LinuxI2c : public I2cTransport {
+class LinuxI2c : public Transport {
  public:
   // Opens the adapter; throws std::runtime_error saying what to check if it cannot.
   explicit LinuxI2c(const std::string& path);
@@ -33,4 +33,4 @@ class LinuxI2c : public I2cTransport {
   int fd_ = -1;
 };
 
-}  // namespace tiller::esc
+}  // namespace tiller::i2c

@@ -1,11 +1,13 @@
-// The I2C transport under the ESC backends: one bus, 7-bit addresses, raw byte transactions.
+// The I2C transport under the ESC backends and the I2C sensor drivers: one bus, 7-bit
+// addresses, raw byte transactions.
 //
-// Two implementations: LinuxI2c (esc/linux_i2c.hpp, /dev/i2c-N through i2c-dev ioctls) and the
-// fake bus with device models (esc/fake/fake_i2c.hpp) that tests and benchmarks drive. A
-// dry-run transport (esc/dry_run.hpp) prints the bytes instead of sending them.
+// Implementations: LinuxI2c (i2c/linux_i2c.hpp, /dev/i2c-N through i2c-dev ioctls), the fake
+// bus (i2c/fake_bus.hpp) with device models (esc/fake/fake_i2c.hpp for the ESCs,
+// sensors/fake/ for the sensors) that tests and benchmarks drive, and the ESC's dry-run
+// transport (esc/dry_run.hpp), which prints the bytes instead of sending them.
 // Every call returns 0 on success or an errno value (ENXIO/EREMOTEIO: no ACK from the address,
 // ETIMEDOUT, EAGAIN: arbitration lost, EIO); it never throws, and a failure affects only that
-// transaction. Calls must not allocate (the ESC loop runs them every cycle).
+// transaction. Calls must not allocate (the ESC and sensor loops run them every cycle).
 #pragma once
 
 #include <cstddef>
@@ -14,11 +16,11 @@
 
 #include "core/time.hpp"
 
-namespace tiller::esc {
+namespace tiller::i2c {
 
-class I2cTransport {
+class Transport {
  public:
-  virtual ~I2cTransport() = default;
+  virtual ~Transport() = default;
 
   // Writes n bytes to `addr` as one transaction (START, addr+W, bytes, STOP).
   virtual int write(std::uint8_t addr, const std::uint8_t* data, std::size_t n) = 0;
@@ -31,9 +33,9 @@ class I2cTransport {
     return 0;
   }
   // Blocks for `us` microseconds (device settling times, e.g. the PCA9685's 500 us after
-  // waking). Used at start-up, and in a cycle only to set up again a PCA9685 that appeared late
-  // or came back asleep after a brown-out (at most once a second; that cycle is 0.5 ms late).
-  // Fakes advance their model clock.
+  // waking; an MS5837 reset). Used at start-up, and in a cycle only to set up again a PCA9685 that
+  // appeared late or came back asleep after a brown-out (at most once a second; that cycle is 0.5
+  // ms late). Fakes advance their model clock.
   virtual void wait_us(std::int64_t us) = 0;
   // Tells the transport the executor's time before a cycle's transactions (fakes drive their
   // device models with it; the Linux transport ignores it).
@@ -48,4 +50,4 @@ bool is_bus_error(int err);
 // "ENXIO (no ACK: nothing at that address)" etc., for messages.
 std::string describe_errno(int err);
 
-}  // namespace tiller::esc
+}  // namespace tiller::i2c
