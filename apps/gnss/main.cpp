@@ -13,7 +13,7 @@ int main(int argc, char** argv) {
   return app::guarded_main(spec.program, [&] {
     const sensors::GnssParams p = sensors::load_gnss_file(args.config);
     sensors::GnssNode node(p);
-    LiveExecutor ex(args.lcm_url);
+    LiveExecutor ex(args.lcm_url, args.auth);
     ex.add(node);
     sensors::GpsdClient gpsd(p, node, ex);
     gpsd.connect(wall_time_us());

@@ -51,6 +51,7 @@ int run(int argc, char** argv) {
   spec.config_help = "the launch file (instead of the LAUNCH_FILE argument)";
   spec.arguments = "LAUNCH_FILE | status LAUNCH_FILE";
   spec.max_positional = 1;
+  spec.takes_realtime = false;  // per process, in the launch file: children inherit SCHED_FIFO
   spec.commands = {{"status", 1}};
   const app::Args args = app::parse(argc, argv, spec);
   // Checked before anything starts.

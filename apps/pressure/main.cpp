@@ -21,7 +21,7 @@ int main(int argc, char** argv) {
     sensors::PressureNode node(p, bus);
     std::fprintf(stderr, "tiller-pressure: %s at 0x%02x, OSR %d, %.0f Hz, water %.0f kg/m^3\n",
                  p.bus.c_str(), p.address, p.osr.ratio, p.rate_hz, p.water_density);
-    LiveExecutor ex(args.lcm_url);
+    LiveExecutor ex(args.lcm_url, args.auth);
     ex.add(node);
     return ex.run();
   });

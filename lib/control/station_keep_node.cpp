@@ -7,6 +7,7 @@
 #include <cmath>
 #include <string_view>
 
+#include "control/integrator_gate.hpp"
 #include "core/checks.hpp"
 #include "core/message_checks.hpp"
 #include "runtime/channels.hpp"
@@ -33,12 +34,14 @@ StationKeepNode::StationKeepNode(const StationKeepNodeParams& p)
       arb_fresh_(from_seconds(p.common.input_timeout_s)),
       alloc_fresh_(from_seconds(p.common.allocation_timeout_s)),
       velocity_fresh_(from_seconds(p.common.input_timeout_s)),
+      command_fresh_(from_seconds(p.common.allocation_timeout_s)),
       blend_(p.common.blend_s) {
   subscribe(channels::kWrenchVelocity, &StationKeepNode::on_velocity_wrench);
   subscribe(channels::kOdometry, &StationKeepNode::on_odometry);
   subscribe(channels::kStationTarget, &StationKeepNode::on_target);
   subscribe(channels::kArbitration, &StationKeepNode::on_arbitration);
   subscribe(channels::kAllocationStatus, &StationKeepNode::on_allocation);
+  subscribe(channels::kThrusterCommand, &StationKeepNode::on_thruster_command);
   advertise<wrench_t>(channels::kWrenchStation);
   advertise<pid_terms_t>(channels::kPidStation);
   nan_odometry_ = &counter("rejected.odometry.nan");
@@ -118,6 +121,16 @@ void StationKeepNode::on_velocity_wrench(const wrench_t& m, TimeUs now) {
   velocity_fresh_.mark(now, m.utime, clock_offset());
 }
 
+void StationKeepNode::on_thruster_command(const thruster_command_t& m, TimeUs now) {
+  if (checks::check(m) != nullptr) {  // unknown source or gate, commands out of [-1, 1]
+    reject(first_use(bad_command_, "rejected.thruster_command.invalid"));
+    return;
+  }
+  command_gate_ = m.gate;
+  command_source_ = m.source;
+  command_fresh_.mark(now);
+}
+
 void StationKeepNode::publish_wrench(TimeUs now, bool valid, double x, double y, double n) {
   wrench_t w{};
   w.utime = now;
@@ -169,6 +182,11 @@ void StationKeepNode::on_tick(TimeUs now) {
     hold_heading_ = heading;
     hold_heading_valid_ = true;
   }
+  // Integrate only while the mixer applies this wrench (gate ACTIVE): reset while disarmed or
+  // waiting for a start, so a start begins from zero integral; frozen otherwise.
+  const IntegratorRule rule = integrator_rule(command_fresh_.fresh(now), command_gate_,
+                                              command_source_, wrench_t::SOURCE_STATION_KEEP);
+  if (rule == IntegratorRule::kReset) pid_.reset();
   StationPidInput in;
   in.target_n = target_.position[0];
   in.target_e = target_.position[1];
@@ -188,7 +206,8 @@ void StationKeepNode::on_tick(TimeUs now) {
   const bool alloc_ok = alloc_fresh_.fresh(now) && alloc_.source == wrench_t::SOURCE_STATION_KEEP;
   for (int k = 0; k < 3; ++k) {
     in.freeze[static_cast<std::size_t>(k)] =
-        alloc_ok && (alloc_.axis_reduced[kAxis[k]] || alloc_.axis_unactuated[kAxis[k]]);
+        rule != IntegratorRule::kIntegrate ||
+        (alloc_ok && (alloc_.axis_reduced[kAxis[k]] || alloc_.axis_unactuated[kAxis[k]]));
   }
   terms_ = have_target ? pid_.step(in) : PidTerms{};
   if (have_target && active_) terms_.out = blend_.apply(now, terms_.out);

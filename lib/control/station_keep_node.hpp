@@ -1,25 +1,29 @@
 // tiller-station-keep's logic: the last-meter station-keeping PID as a node.
 //
-// Subscribes TILLER_ODOMETRY, TILLER_STATION_TARGET, TILLER_ARBITRATION and
-// TILLER_ALLOCATION_STATUS. Every tick (rate_hz) it publishes TILLER_WRENCH_STATION (body FRD
-// [X Y 0 0 0 N], N and N m; invalid while there is no fresh active target) and its terms on
-// TILLER_PID_STATION. It integrates only while the arbitration makes it the active source
-// (integrator restarts from zero on entry; its output is blended from the velocity PID's last
-// wrench over blend_s, so the hand-over has no thrust step). A target without a heading holds the
-// heading the vehicle has when the target first becomes active. Odometry stale: neutral, or the
-// last wrench for hold_s, per config.
-// Bad input (core/message_checks.hpp) is dropped and counted: odometry with non-finite values
+// Subscribes TILLER_ODOMETRY, TILLER_STATION_TARGET, TILLER_ARBITRATION, TILLER_ALLOCATION_STATUS
+// and TILLER_THRUSTER_COMMAND (the mixer's safety gate: control/integrator_gate.hpp). Every tick
+// (rate_hz) it publishes TILLER_WRENCH_STATION (body FRD [X Y 0 0 0 N], N and N m; invalid while
+// there is no fresh active target) and its terms on TILLER_PID_STATION. It integrates only while
+// the arbitration makes it the active source and the mixer's gate is ACTIVE with this wrench
+// allocated (reset to zero while disarmed or waiting for a start, frozen otherwise:
+// control/integrator_gate.hpp). The integrator restarts from zero on entry; its output is blended
+// from the velocity PID's last wrench over blend_s, so the hand-over has no thrust step. A target
+// without a heading holds the heading the vehicle has when the target first becomes active.
+// Odometry stale: neutral, or the last wrench for hold_s, per config. Bad input
+// (core/message_checks.hpp) is dropped and counted: odometry with non-finite values
 // (rejected.odometry.nan) or angles / covariance size out of contract (rejected.odometry.range);
 // an active target with NaN, a position beyond 1e6 m or a valid heading outside (-pi, pi]
 // (rejected.target.invalid); an arbitration with an unknown mode or source
 // (rejected.arbitration.invalid); an allocation status out of contract
-// (rejected.allocation.invalid); a velocity-PID wrench with NaN (rejected.wrench_velocity.nan).
+// (rejected.allocation.invalid); a velocity-PID wrench with NaN (rejected.wrench_velocity.nan); a
+// thruster command out of contract (rejected.thruster_command.invalid).
 #pragma once
 
 #include <tiller/allocation_status_t.hpp>
 #include <tiller/arbitration_t.hpp>
 #include <tiller/odometry_t.hpp>
 #include <tiller/station_target_t.hpp>
+#include <tiller/thruster_command_t.hpp>
 #include <tiller/wrench_t.hpp>
 
 #include "control/blend.hpp"
@@ -38,6 +42,7 @@ class StationKeepNode : public Node {
   void on_arbitration(const arbitration_t& m, TimeUs now);
   void on_allocation(const allocation_status_t& m, TimeUs now);
   void on_velocity_wrench(const wrench_t& m, TimeUs now);
+  void on_thruster_command(const thruster_command_t& m, TimeUs now);
   void on_tick(TimeUs now) override;
 
   const PidTerms& terms() const { return terms_; }
@@ -64,12 +69,15 @@ class StationKeepNode : public Node {
   wrench_t last_wrench_{};
   wrench_t velocity_wrench_{};
   Freshness velocity_fresh_;
+  Freshness command_fresh_;  // TILLER_THRUSTER_COMMAND: the mixer's gate and source
+  std::int8_t command_gate_ = thruster_command_t::GATE_DISARMED;
+  std::int8_t command_source_ = wrench_t::SOURCE_NONE;
   Blend blend_;
   bool was_active_ = false;
   std::int64_t *nan_odometry_, *bad_target_, *bad_velocity_wrench_;
   std::int64_t *range_odometry_ = nullptr, *bad_arbitration_ = nullptr,  // made on first use
                                                *bad_allocation_ = nullptr,
-               *range_velocity_wrench_ = nullptr;
+               *range_velocity_wrench_ = nullptr, *bad_command_ = nullptr;
 };
 
 }  // namespace tiller::control

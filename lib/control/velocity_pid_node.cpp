@@ -6,6 +6,7 @@
 #include <cmath>
 #include <string_view>
 
+#include "control/integrator_gate.hpp"
 #include "core/checks.hpp"
 #include "core/message_checks.hpp"
 #include "runtime/channels.hpp"
@@ -32,6 +33,7 @@ VelocityPidNode::VelocityPidNode(const VelocityPidNodeParams& p)
       alloc_fresh_(from_seconds(p.common.allocation_timeout_s)),
       mode_(p.arbiter.default_mode),
       station_fresh_(from_seconds(p.common.input_timeout_s)),
+      command_fresh_(from_seconds(p.common.allocation_timeout_s)),
       blend_(p.common.blend_s) {
   subscribe(channels::kWrenchStation, &VelocityPidNode::on_station_wrench);
   subscribe(channels::kOdometry, &VelocityPidNode::on_odometry);
@@ -40,6 +42,7 @@ VelocityPidNode::VelocityPidNode(const VelocityPidNodeParams& p)
   subscribe(channels::kMode, &VelocityPidNode::on_mode);
   subscribe(channels::kPathProgress, &VelocityPidNode::on_progress);
   subscribe(channels::kAllocationStatus, &VelocityPidNode::on_allocation);
+  subscribe(channels::kThrusterCommand, &VelocityPidNode::on_thruster_command);
   advertise<wrench_t>(channels::kWrenchVelocity);
   advertise<arbitration_t>(channels::kArbitration);
   advertise<pid_terms_t>(channels::kPidVelocity);
@@ -144,6 +147,16 @@ void VelocityPidNode::on_station_wrench(const wrench_t& m, TimeUs now) {
   }
   station_wrench_ = m;
   station_fresh_.mark(now, m.utime, clock_offset());
+}
+
+void VelocityPidNode::on_thruster_command(const thruster_command_t& m, TimeUs now) {
+  if (checks::check(m) != nullptr) {  // unknown source or gate, commands out of [-1, 1]
+    reject(first_use(bad_command_, "rejected.thruster_command.invalid"));
+    return;
+  }
+  command_gate_ = m.gate;
+  command_source_ = m.source;
+  command_fresh_.mark(now);
 }
 
 void VelocityPidNode::publish_wrench(TimeUs now, bool valid, double x, double y, double n) {
@@ -284,12 +297,18 @@ void VelocityPidNode::on_tick(TimeUs now) {
     in.yaw_value = setpoint_.heading_valid ? setpoint_.target_heading : 0.0;
   }
   // Integrate only while in control, and not on the entry or mode-switch tick: the integrator is
-  // exactly zero when the PID takes over (it was reset while standing by, or just now).
+  // exactly zero when the PID takes over (it was reset while standing by, or just now). And only
+  // while the mixer applies this wrench (gate ACTIVE): reset while disarmed or waiting for a
+  // start, so a start begins from zero integral; frozen otherwise.
   if (!active || entering || switching) in.dt = 0;
+  const IntegratorRule rule = integrator_rule(command_fresh_.fresh(now), command_gate_,
+                                              command_source_, wrench_t::SOURCE_VELOCITY_PID);
+  if (rule == IntegratorRule::kReset) pid_.reset();
   const bool alloc_ok = alloc_fresh_.fresh(now) && alloc_.source == wrench_t::SOURCE_VELOCITY_PID;
   for (int k = 0; k < 3; ++k) {
     in.freeze[static_cast<std::size_t>(k)] =
-        alloc_ok && (alloc_.axis_reduced[kAxis[k]] || alloc_.axis_unactuated[kAxis[k]]);
+        rule != IntegratorRule::kIntegrate ||
+        (alloc_ok && (alloc_.axis_reduced[kAxis[k]] || alloc_.axis_unactuated[kAxis[k]]));
   }
   terms_ = have_command ? pid_.step(in) : PidTerms{};
   if (have_command && active) terms_.out = blend_.apply(now, terms_.out);

@@ -1,14 +1,17 @@
 // tiller-velocity-pid's logic: the arbiter (seed 004's choose_pid) and the velocity PID.
 //
 // Subscribes TILLER_ODOMETRY, TILLER_VELOCITY_SETPOINT (waypointing), TILLER_MANUAL_VELOCITY
-// (manual closed loop), TILLER_MODE, TILLER_PATH_PROGRESS and TILLER_ALLOCATION_STATUS. Every
+// (manual closed loop), TILLER_MODE, TILLER_PATH_PROGRESS, TILLER_ALLOCATION_STATUS and
+// TILLER_THRUSTER_COMMAND (the mixer's safety gate: control/integrator_gate.hpp). Every
 // tick (rate_hz) it decides the wrench source and publishes TILLER_ARBITRATION, then publishes
 // TILLER_WRENCH_VELOCITY (body FRD [X Y 0 0 0 N], N and N m) and its terms on
 // TILLER_PID_VELOCITY. The PID integrates only while it is the active source (its integrator
 // restarts from zero on entry, and its output is blended over blend_s from the wrench in force
 // before: the station keeper's last wrench, or what the mixer achieved with the pilot's
 // open-loop stick, so the hand-over has no thrust step), with dt from the odometry times, frozen
-// while the mixer reports the axis reduced. A mode switch while it stays the source (manual
+// while the mixer reports the axis reduced, and only while the mixer's gate is ACTIVE with this
+// PID's wrench allocated (reset to zero while disarmed or waiting for a start, frozen otherwise:
+// control/integrator_gate.hpp). A mode switch while it stays the source (manual
 // closed loop <-> waypointing, both VELOCITY_PID) is a hand-over too: integrators reset to
 // zero, blend from the last published wrench, dt = 0 on that tick. No fresh setpoint: wrench
 // invalid (the mixer treats it as absent). Odometry stale: neutral, or the last wrench for hold_s,
@@ -17,7 +20,8 @@
 // (rejected.odometry.range); a setpoint out of contract, e.g. a valid heading outside (-pi, pi]
 // (rejected.setpoint.invalid); an allocation status out of contract (rejected.allocation.invalid);
 // a manual command, mode or path progress out of contract (rejected.manual/mode/progress.invalid);
-// a station-keep wrench with NaN (rejected.wrench_station.nan).
+// a station-keep wrench with NaN (rejected.wrench_station.nan); a thruster command out of contract
+// (rejected.thruster_command.invalid).
 #pragma once
 
 #include <tiller/allocation_status_t.hpp>
@@ -26,6 +30,7 @@
 #include <tiller/manual_velocity_cmd_t.hpp>
 #include <tiller/odometry_t.hpp>
 #include <tiller/path_progress_t.hpp>
+#include <tiller/thruster_command_t.hpp>
 #include <tiller/velocity_setpoint_t.hpp>
 #include <tiller/wrench_t.hpp>
 
@@ -48,6 +53,7 @@ class VelocityPidNode : public Node {
   void on_progress(const path_progress_t& m, TimeUs now);
   void on_allocation(const allocation_status_t& m, TimeUs now);
   void on_station_wrench(const wrench_t& m, TimeUs now);
+  void on_thruster_command(const thruster_command_t& m, TimeUs now);
   void on_tick(TimeUs now) override;
 
   const ArbiterDecision& decision() const { return decision_; }
@@ -78,6 +84,9 @@ class VelocityPidNode : public Node {
   std::string reason_;
   wrench_t station_wrench_{};
   Freshness station_fresh_;
+  Freshness command_fresh_;  // TILLER_THRUSTER_COMMAND: the mixer's gate and source
+  std::int8_t command_gate_ = thruster_command_t::GATE_DISARMED;
+  std::int8_t command_source_ = wrench_t::SOURCE_NONE;
   Blend blend_;
   bool was_active_ = false;
   std::int8_t prev_source_ = -1;  // the arbiter's source at the previous tick
@@ -85,7 +94,8 @@ class VelocityPidNode : public Node {
   std::int64_t *nan_odometry_, *bad_setpoint_, *bad_manual_, *bad_progress_, *bad_mode_,
       *bad_station_wrench_;
   std::int64_t *range_odometry_ = nullptr, *bad_allocation_ = nullptr,  // made on first use
-                                               *range_station_wrench_ = nullptr;
+                                               *range_station_wrench_ = nullptr,
+               *bad_command_ = nullptr;
 };
 
 }  // namespace tiller::control

@@ -220,11 +220,15 @@ inline Reason check(const path_progress_t& m) {
   return nullptr;
 }
 
-// thruster_command_t: a known source, 0..16 thrusters, each command in [-1, 1].
+// thruster_command_t: a known source, 0..16 thrusters, each command in [-1, 1]. Only the first
+// n_thrusters entries: lcm-gen's decode leaves a reused message's array as it was when the count
+// is 0, so entries past the count are an earlier message's.
 inline Reason check(const thruster_command_t& m) {
   if (!detail::source(m.source)) return "source.unknown";
   if (m.n_thrusters < 0 || m.n_thrusters > 16) return "n_thrusters.range";
-  if (!detail::within(m.command.data(), m.command.size(), -1, 1)) return "command.range";
+  if (m.command.size() < static_cast<std::size_t>(m.n_thrusters) ||
+      !detail::within(m.command.data(), static_cast<std::size_t>(m.n_thrusters), -1, 1))
+    return "command.range";
   if (m.gate < thruster_command_t::GATE_DISARMED || m.gate > thruster_command_t::GATE_INPUT_LOST)
     return "gate.unknown";
   return nullptr;

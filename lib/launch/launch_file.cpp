@@ -42,6 +42,19 @@ std::vector<std::string> strings(const config::Value& v) {
   return out;
 }
 
+// realtime: {priority, lock_memory, required} -> the spec, and its flags after the args.
+void load_realtime(const config::Value& p, const config::Value& rt, ProcessSpec& s) {
+  if (!rt.is_map()) rt.fail("a map (priority 1..99, lock_memory, required)");
+  const auto slash = s.command.rfind('/');
+  if (s.command.compare(slash == std::string::npos ? 0 : slash + 1, 7, "tiller-") != 0)
+    p.at("command").fail("a tiller-* program with realtime: (the program applies it itself)");
+  s.realtime.priority = static_cast<int>(rt.integer_or("priority", 0, 1, 99));
+  s.realtime.lock_memory = rt.boolean_or("lock_memory", true);
+  s.realtime.required = rt.boolean_or("required", false);
+  if (!s.realtime.any()) rt.fail("priority: N or lock_memory: true (nothing to apply)");
+  for (auto& a : realtime_args(s.realtime)) s.args.push_back(std::move(a));
+}
+
 ProcessSpec load_process(const config::Value& p) {
   if (!p.is_map()) p.fail("a map with at least name and command");
   ProcessSpec s;
@@ -69,10 +82,20 @@ ProcessSpec load_process(const config::Value& p) {
   s.stable_after_s = p.number_or("stable_after_s", 30.0, {0.0, 86400.0});
   s.critical = p.boolean_or("critical", false);
   s.autostart = p.boolean_or("autostart", true);
+  if (auto rt = p.find("realtime")) load_realtime(p, *rt, s);
   return s;
 }
 
 }  // namespace
+
+std::vector<std::string> realtime_args(const RealtimeSpec& r) {
+  std::vector<std::string> a;
+  if (!r.any()) return a;
+  if (r.priority > 0) a.push_back("--realtime-priority=" + std::to_string(r.priority));
+  if (r.lock_memory) a.emplace_back("--lock-memory");
+  if (r.required) a.emplace_back("--realtime-required");
+  return a;
+}
 
 LaunchFile load_launch(const config::Value& root, const std::string& file_dir) {
   if (!root.is_map()) root.fail("a launch file (a map with processes:)");

@@ -31,6 +31,10 @@
 //       critical: false          # true: giving up on it stops the whole run (exit 3)
 //       autostart: true          # false: started only when its group or name is asked for
 //                                # (--group / --only), e.g. a mission that arms a real boat
+//       realtime: {priority: 80, lock_memory: true, required: false}
+//                                # tiller-* programs only: passed on as --realtime-priority 80
+//                                # --lock-memory [--realtime-required]; the program applies it
+//                                # itself (runtime/realtime.hpp, docs/operations.md "Real time")
 #pragma once
 
 #include <map>
@@ -45,6 +49,18 @@ namespace tiller::launch {
 
 enum class Restart { kNever, kOnFailure, kAlways };
 const char* to_string(Restart r);
+
+// A process's `realtime:` entry: SCHED_FIFO priority and locked memory, which the program
+// applies itself from the flags realtime_args() makes.
+struct RealtimeSpec {
+  int priority = 0;          // SCHED_FIFO priority 1..99; 0: the normal scheduler
+  bool lock_memory = false;  // mlockall (the loader's default with a realtime: entry: true)
+  bool required = false;     // true: the program refuses to start when it is not permitted
+  bool any() const { return priority > 0 || lock_memory; }
+};
+
+// The command-line flags of a realtime: entry (none when !r.any()).
+std::vector<std::string> realtime_args(const RealtimeSpec& r);
 
 struct ProcessSpec {
   std::string name;
@@ -61,6 +77,7 @@ struct ProcessSpec {
   double stable_after_s = 30.0;  // running this long resets the back-off and the restart count
   bool critical = false;
   bool autostart = true;  // false: only with --group G / --only NAME
+  RealtimeSpec realtime;  // its flags are already at the end of args
   int line = 0;           // line in the launch file (for messages)
 };
 

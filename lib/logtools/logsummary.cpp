@@ -61,6 +61,11 @@ std::vector<std::string> attention(const LogSummary& s) {
     if (p.rejected > 0 || p.stale > 0 || !drops.empty())
       out.push_back(p.process + ": rejected " + std::to_string(p.rejected) + ", stale " +
                     std::to_string(p.stale) + (drops.empty() ? "" : " (" + drops + ")"));
+    if (auto rt = p.counters.find("realtime.refused"); rt != p.counters.end() && rt->second > 0)
+      out.push_back(p.process +
+                    ": real time asked for and refused (realtime.refused = 1): it ran on the "
+                    "normal scheduler; its first output lines say what is missing (docs/"
+                    "operations.md, \"Real time\")");
   }
   for (const auto& c : s.channels)
     if (c.undecodable > 0)
@@ -175,7 +180,7 @@ std::string format_summary(const LogSummary& s) {
   os << buf;
   if (s.attention.empty())
     os << "attention: nothing (no process missed more than 1 % of its ticks, none was DEGRADED "
-          "or FAULT, no drops or rejections, every message decodes)\n\n";
+          "or FAULT, no drops or rejections, every message decodes, no real time refused)\n\n";
   for (const auto& a : s.attention) os << "ATTENTION: " << a << "\n";
   if (!s.attention.empty()) os << "\n";
   std::size_t w = 7;

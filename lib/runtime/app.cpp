@@ -13,6 +13,7 @@
 #include "core/config.hpp"
 #include "core/lcm_url.hpp"
 #include "runtime/channels.hpp"
+#include "runtime/realtime.hpp"
 
 namespace tiller::app {
 
@@ -46,6 +47,11 @@ void help(const Spec& spec, std::ostream& os) {
   if (spec.takes_lcm_url)
     line("--lcm-url URL", "LCM URL; ttl=0 is added unless the URL sets ttl",
          std::string("$LCM_DEFAULT_URL, else ") + channels::kDefaultLcmUrl);
+  if (spec.takes_lcm_url && spec.takes_realtime) {
+    line("--realtime-priority N", "run with SCHED_FIFO priority N (1..99; docs/operations.md)", "");
+    line("--lock-memory", "lock all memory (mlockall) so the loop never waits on a page fault", "");
+    line("--realtime-required", "refuse to start when the two above are not permitted", "");
+  }
   for (const auto& o : spec.options)
     line("--" + o.name + (o.value_name.empty() ? "" : " " + o.value_name), o.help, o.default_value);
 }
@@ -166,6 +172,50 @@ std::string env_or_empty(const char* name) {
   const char* v = std::getenv(name);
   return v ? v : "";
 }
+
+// --realtime-priority / --lock-memory / --realtime-required (runtime/realtime.hpp): applied
+// now, before the program opens anything. A refusal is a warning line per problem, or, when
+// required, a start-up error (exit 2).
+void apply_realtime(const Spec& spec, const std::string& priority, bool lock, bool required) {
+  realtime::Request r;
+  if (!priority.empty()) {
+    std::int64_t v = 0;
+    const auto [p, ec] = std::from_chars(priority.data(), priority.data() + priority.size(), v);
+    if (ec != std::errc() || p != priority.data() + priority.size() || v < 1 || v > 99) {
+      std::cerr << spec.program
+                << ": --realtime-priority: expected a whole number in [1, 99], got '" << priority
+                << "'\n";
+      std::exit(2);
+    }
+    r.priority = static_cast<int>(v);
+  }
+  r.lock_memory = lock;
+  r.required = required;
+  if (!r.any()) {
+    if (required) {
+      std::cerr << spec.program
+                << ": --realtime-required needs --realtime-priority N and/or --lock-memory\n";
+      std::exit(2);
+    }
+    return;
+  }
+  const realtime::Report rep = realtime::apply(r, realtime::os());
+  realtime::set_process_report(rep);
+  for (const auto& problem : rep.problems)
+    std::cerr << spec.program << ": " << (required ? "error" : "warning")
+              << ": real time: " << problem << "\n";
+  if (!rep.granted() && required) {
+    std::cerr << spec.program
+              << ": not starting: real time is required (--realtime-required, the launch file's "
+                 "realtime.required)\n";
+    std::exit(2);
+  }
+  std::cerr << spec.program << ": real time: " << realtime::summary(rep)
+            << (rep.granted() ? ""
+                              : " (continuing without what was refused; the heartbeat says "
+                                "realtime.refused = 1)")
+            << "\n";
+}
 }  // namespace
 
 Args parse(int argc, char** argv, const Spec& spec) {
@@ -190,6 +240,8 @@ Args parse(int argc, char** argv, const Spec& spec) {
   std::string require = env_or_empty("TILLER_REQUIRE_SIGNED");
   std::string window = env_or_empty("TILLER_AUTH_WINDOW_S");
   std::string clock_offset = env_or_empty("TILLER_CLOCK_OFFSET_S");
+  std::string rt_priority;
+  bool rt_lock = false, rt_required = false;
   for (int i = 1; i < argc; ++i) {
     std::string s = argv[i];
     std::string value;
@@ -225,6 +277,12 @@ Args parse(int argc, char** argv, const Spec& spec) {
       if (s == "--require-signed") require = has_value ? value : "1";
       if (s == "--auth-window-s") window = take();
       if (s == "--clock-offset-s") clock_offset = take();
+    } else if (s == "--realtime-priority" || s == "--lock-memory" || s == "--realtime-required") {
+      if (!spec.takes_lcm_url || !spec.takes_realtime)
+        bad(s + " is not taken: " + spec.program + " runs no real-time loop of its own");
+      if (s == "--realtime-priority") rt_priority = take();
+      if (s == "--lock-memory") rt_lock = true;
+      if (s == "--realtime-required") rt_required = true;
     } else if (s.rfind("--", 0) == 0) {
       const std::string name = s.substr(2);
       bool known = false;
@@ -241,6 +299,8 @@ Args parse(int argc, char** argv, const Spec& spec) {
   if (const std::string extra = extra_positional(spec, a.positional); !extra.empty()) bad(extra);
   a.config = resolve_path(a.config);
   if (spec.takes_lcm_url) load_auth(a, spec, key_file, require, window, clock_offset);
+  if (spec.takes_lcm_url && spec.takes_realtime)
+    apply_realtime(spec, rt_priority, rt_lock, rt_required);
   return a;
 }
 

@@ -22,6 +22,13 @@
 //   --clock-offset-s S   bound on the offset between this computer's clock and its senders'
 //                        (default: $TILLER_CLOCK_OFFSET_S, else 0.25; [0, 10])
 // tiller-launch sets the four variables from the launch file for every process.
+//
+// Real time (runtime/realtime.hpp, docs/operations.md "Real time"): such a program also takes
+//   --realtime-priority N   SCHED_FIFO priority 1..99
+//   --lock-memory           mlockall(MCL_CURRENT | MCL_FUTURE)
+//   --realtime-required     not permitted -> exit 2 (else a warning per refusal, and it runs)
+// applied by parse() itself, before the program opens anything; tiller-launch passes them
+// from a process's `realtime:` entry.
 #pragma once
 
 #include <cstdint>
@@ -49,6 +56,9 @@ struct Spec {
   std::vector<Option> options;
   bool takes_config = true;   // false: --config is refused (the program has no config file)
   bool takes_lcm_url = true;  // false: --lcm-url is refused (the program opens no LCM)
+  // false: --realtime-priority, --lock-memory, --realtime-required are refused (also when
+  // takes_lcm_url is false). tiller-launch: its children would inherit SCHED_FIFO.
+  bool takes_realtime = true;
   // Positional arguments, as the usage line shows them after "[options]" ("LOG"); empty: none.
   std::string arguments = {};
   // At most this many positional arguments; the first one more is refused, naming it.

@@ -15,6 +15,8 @@
 #include <optional>
 #include <stdexcept>
 
+#include "runtime/realtime.hpp"
+
 namespace tiller {
 
 namespace {
@@ -107,6 +109,12 @@ void LiveExecutor::add(Node& node) {
     }
   }
   node_auth_.push_back(na);
+  // Real time as the command line asked for it (runtime/realtime.hpp), in every heartbeat.
+  if (const realtime::Report* rt = realtime::process_report()) {
+    node.executor_counter("realtime.priority") = rt->priority;
+    node.executor_counter("realtime.locked") = rt->locked ? 1 : 0;
+    node.executor_counter("realtime.refused") = rt->granted() ? 0 : 1;
+  }
   next_tick_.push_back(node.next_tick_at_or_after(wall_time_us()));
   tick_failures_.push_back(0);
   for (const auto& ch : node.subscribed_channels()) {

@@ -23,6 +23,10 @@
 // heartbeat as "rejected.auth.<verdict>" (unsigned, wrong_key, bad_mac, replay, window,
 // streams_full), and a node's accept_only_from rule refuses other senders as
 // "rejected.auth.sender"; the first refusal of each kind is also one line on stderr.
+//
+// Real time (runtime/realtime.hpp): when the process asked for it on its command line, add()
+// gives every node the counters realtime.priority (the SCHED_FIFO priority in force, 0: none),
+// realtime.locked (1: memory locked) and realtime.refused (1: part of the request was refused).
 #pragma once
 
 #include <array>

@@ -2,7 +2,9 @@
 // surge-sway-yaw model (otter.py's numbers, docs/adding-a-vehicle.md: M = diag(85.5, 162.5, 42.65),
 // D = 77.55, 162.5, 42.65 + quadratic yaw 10 * 42.65 |r| r) moving relative to a constant current,
 // with the Otter's two propellers (y = -+0.395 m, +119.7 / -66.7 N, no sway authority) allocated
-// directly from the wrench the arbitration selects. It stands in for mixer + esc + simulator; the
+// directly from the wrench the arbitration selects, and says so as an armed mixer would
+// (TILLER_THRUSTER_COMMAND: gate ACTIVE, that source; the controllers integrate only then). It
+// stands in for mixer + esc + simulator; the
 // full stack (MixerNode, EscNode, SimNode) is what test/autonomy's closed-loop tests use when
 // present. World NED, body FRD; explicit Euler at 10 ms (the model is heavily damped).
 #pragma once
@@ -10,6 +12,7 @@
 #include <tiller/allocation_status_t.hpp>
 #include <tiller/arbitration_t.hpp>
 #include <tiller/odometry_t.hpp>
+#include <tiller/thruster_command_t.hpp>
 #include <tiller/wrench_t.hpp>
 
 #include <algorithm>
@@ -85,6 +88,13 @@ class SimplePlant : public Node {
       status_.axis_reduced[0] = status_.axis_reduced[5] = reduced;
       status_.axis_unactuated[1] = true;
       publish(channels::kAllocationStatus, status_);
+      thruster_command_t cmd{};
+      cmd.utime = now;
+      cmd.armed = true;
+      cmd.source = source_;
+      cmd.gate = thruster_command_t::GATE_ACTIVE;
+      cmd.arm_allowed = true;
+      publish(channels::kThrusterCommand, cmd);
     }
   }
 

@@ -8,6 +8,7 @@
 
 #include <tiller/arbitration_t.hpp>
 #include <tiller/pid_terms_t.hpp>
+#include <tiller/thruster_command_t.hpp>
 
 #include <cmath>
 #include <functional>
@@ -63,6 +64,24 @@ void watch(LockstepExecutor& ex, Bus& b) {
   });
 }
 
+// The mixer's thruster command: gate (thruster_command_t GATE_*) and the source it allocated.
+thruster_command_t gate_cmd(TimeUs t, std::int8_t gate, std::int8_t source) {
+  thruster_command_t c{};
+  c.utime = t;
+  c.armed = gate == thruster_command_t::GATE_ACTIVE;
+  c.gate = gate;
+  c.source = source;
+  c.arm_allowed = true;
+  return c;
+}
+
+// An armed, started mixer allocating `source`, at 20 Hz from t0 to t1 (exclusive): the
+// controllers integrate only then (control/integrator_gate.hpp).
+void applied(LockstepExecutor& ex, std::int8_t source, TimeUs t0, TimeUs t1) {
+  for (TimeUs t = t0; t < t1; t += 50'000)
+    ex.inject(channels::kThrusterCommand, gate_cmd(t, thruster_command_t::GATE_ACTIVE, source), t);
+}
+
 // Feeds odometry at 20 Hz from t0 to t1 (exclusive).
 void feed(LockstepExecutor& ex, TimeUs t0, TimeUs t1, double u = 0) {
   for (TimeUs t = t0; t < t1; t += 50'000) ex.inject(channels::kOdometry, odom(t, 0, 0, 0, u), t);
@@ -87,6 +106,7 @@ TEST(VelocityPidNode, ManualClosedLoopTracksTheManualCommand) {
     ex.inject(channels::kManualVelocity, m, t);
   }
   feed(ex, 110'000, 1'000'000, 0.4);
+  applied(ex, wrench_t::SOURCE_VELOCITY_PID, 110'000, 1'000'000);
   ex.run_until(900'000);
   EXPECT_EQ(b.arb.active_source, wrench_t::SOURCE_VELOCITY_PID);
   EXPECT_EQ(b.arb.mode, controller_mode_t::MANUAL_CLOSED_LOOP);
@@ -118,8 +138,10 @@ TEST(VelocityPidNode, IntegratorFrozenWhileTheMixerReportsTheAxisReduced) {
     ex.inject(channels::kAllocationStatus, a, t);
   }
   feed(ex, 0, 1'000'000);
+  applied(ex, wrench_t::SOURCE_VELOCITY_PID, 0, 1'000'000);
   ex.run_until(900'000);
   EXPECT_TRUE(b.pv.integrator_frozen[0]);
+  EXPECT_FALSE(b.pv.integrator_frozen[1]);  // sway: applied, not reduced
   EXPECT_DOUBLE_EQ(b.pv.i[0], 0.0);
 }
 
@@ -200,6 +222,8 @@ TEST(StationKeepNode, ActsOnlyWhenArbitratedAndHoldsArrivalHeading) {
     ex.inject(channels::kStationTarget, st, t);
     ex.inject(channels::kArbitration, arb, t);
     ex.inject(channels::kOdometry, odom(t, 0, 0, 0.3), t);
+    const auto src = t < 1'000'000 ? wrench_t::SOURCE_VELOCITY_PID : wrench_t::SOURCE_STATION_KEEP;
+    ex.inject(channels::kThrusterCommand, gate_cmd(t, thruster_command_t::GATE_ACTIVE, src), t);
   }
   ex.run_until(950'000);
   EXPECT_TRUE(b.ws.valid);
@@ -372,6 +396,27 @@ std::vector<BadCase> bad_allocation(std::int8_t source) {
   };
 }
 
+// Thruster command cases: each, if accepted, would stop the node's integrators (a disarmed or
+// unknown gate), so the output would change.
+std::vector<BadCase> bad_command(std::int8_t source) {
+  auto c = [source](auto f) {
+    thruster_command_t m = gate_cmd(kBadAt, thruster_command_t::GATE_DISARMED, source);
+    m.n_thrusters = 2;
+    m.names = {"port", "starboard"};
+    m.command = {0.0, 0.0};
+    f(m);
+    return bad(channels::kThrusterCommand, m);
+  };
+  return {
+      {"thruster command gate 9", c([](thruster_command_t& m) { m.gate = 9; }),
+       "rejected.thruster_command.invalid"},
+      {"thruster command 2.0", c([](thruster_command_t& m) { m.command[0] = 2.0; }),
+       "rejected.thruster_command.invalid"},
+      {"thruster command NaN", c([](thruster_command_t& m) { m.command[1] = NAN; }),
+       "rejected.thruster_command.invalid"},
+  };
+}
+
 template <class NodeT, class ParamsT>
 Outputs run_with(const std::function<void(LockstepExecutor&)>& good, const Inject& extra,
                  const ParamsT& p, const std::set<std::string>& outs,
@@ -413,6 +458,8 @@ void velocity_good_input(LockstepExecutor& ex) {
     auto a = good_alloc(wrench_t::SOURCE_VELOCITY_PID);
     a.utime = t;
     ex.inject(channels::kAllocationStatus, a, t);
+    ex.inject(channels::kThrusterCommand,
+              gate_cmd(t, thruster_command_t::GATE_ACTIVE, wrench_t::SOURCE_VELOCITY_PID), t);
   }
 }
 
@@ -432,6 +479,7 @@ TEST(VelocityPidNode, MalformedInputOfEachTypeIsDroppedCountedAndChangesNothing)
 
   std::vector<BadCase> cases = bad_odometry();
   for (auto& c : bad_allocation(wrench_t::SOURCE_VELOCITY_PID)) cases.push_back(c);
+  for (auto& c : bad_command(wrench_t::SOURCE_VELOCITY_PID)) cases.push_back(c);
   auto sp = [](auto f) {
     velocity_setpoint_t m{};
     m.utime = kBadAt;
@@ -534,6 +582,8 @@ void station_good_input(LockstepExecutor& ex) {
     w.valid = true;
     w.tau[0] = 30.0;
     ex.inject(channels::kWrenchVelocity, w, t);
+    ex.inject(channels::kThrusterCommand,
+              gate_cmd(t, thruster_command_t::GATE_ACTIVE, wrench_t::SOURCE_STATION_KEEP), t);
   }
 }
 
@@ -551,6 +601,7 @@ TEST(StationKeepNode, MalformedInputOfEachTypeIsDroppedCountedAndChangesNothing)
 
   std::vector<BadCase> cases = bad_odometry();
   for (auto& c : bad_allocation(wrench_t::SOURCE_STATION_KEEP)) cases.push_back(c);
+  for (auto& c : bad_command(wrench_t::SOURCE_STATION_KEEP)) cases.push_back(c);
   auto st = [](auto f) {
     station_target_t m{};
     m.utime = kBadAt;

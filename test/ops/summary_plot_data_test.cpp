@@ -1,6 +1,6 @@
 // tiller-log summary flags what needs attention: a process that missed more than 1 % of its
 // ticks (2 % is flagged, 0.5 % is not), a DEGRADED or FAULT heartbeat at any time, rejected
-// messages; and it explains its columns. tiller-plot's data: the heading is unwrapped (a turn
+// messages, real time refused (realtime.refused = 1); and it explains its columns. tiller-plot's data: the heading is unwrapped (a turn
 // through south continues past 180 instead of jumping to -180), and each waypoint reached and
 // the mission's completion are marked where and when the path follower said so.
 #include <gtest/gtest.h>
@@ -152,6 +152,25 @@ TEST(PlotData, UnwrappedHeadingAndWaypointMarksFromALog) {
   std::getline(reached, line);
   EXPECT_EQ(line, "4,4,0,1");
   fs::remove_all(dir);
+}
+
+TEST(LogSummaryAttention, RefusedRealTimeIsFlagged) {
+  std::vector<Event> log = esc_heartbeats(0);
+  heartbeat_t hb{};
+  hb.process = "mixer";
+  hb.n_counters = 3;
+  hb.counter_names = {"realtime.locked", "realtime.priority", "realtime.refused"};
+  hb.counter_values = {0, 0, 1};
+  log.push_back(encode("TILLER_HEARTBEAT_MIXER", 10 * kUsPerSecond, hb));
+  hb.process = "granted";
+  hb.counter_values = {1, 40, 0};
+  log.push_back(encode("TILLER_HEARTBEAT_GRANTED", 10 * kUsPerSecond, hb));
+  const LogSummary s = summarize(log);
+  ASSERT_EQ(s.attention.size(), 1u);
+  EXPECT_EQ(s.attention[0],
+            "mixer: real time asked for and refused (realtime.refused = 1): it ran on the normal "
+            "scheduler; its first output lines say what is missing (docs/operations.md, \"Real "
+            "time\")");
 }
 
 }  // namespace

@@ -32,6 +32,10 @@
 #include "runtime/channels.hpp"
 #include "runtime/lockstep.hpp"
 #include "sensors/gnss_node.hpp"
+#include "sensors/gpio.hpp"
+#include "sensors/imu_node.hpp"
+#include "sensors/leak_node.hpp"
+#include "sensors/power_node.hpp"
 #include "sensors/pressure_node.hpp"
 #include "sim/sim_node.hpp"
 #include "teleop/teleop_node.hpp"
@@ -146,6 +150,14 @@ std::vector<Program> programs() {
           sensors::load_pressure_file(kRoot + "/config/sensors/pressure_bar30.yaml"), i2c));
   add("tiller-gnss", std::make_unique<sensors::GnssNode>(
                          sensors::load_gnss_file(kRoot + "/config/sensors/gnss_gpsd.yaml")));
+  add("tiller-imu", std::make_unique<sensors::ImuNode>(
+                        sensors::load_imu_file(kRoot + "/config/sensors/imu_bno055.yaml"), i2c));
+  add("tiller-power",
+      std::make_unique<sensors::PowerNode>(
+          sensors::load_power_file(kRoot + "/config/sensors/power_ina226.yaml"), i2c));
+  static sensors::FakeGpio gpio;
+  add("tiller-leak", std::make_unique<sensors::LeakNode>(
+                         sensors::load_leak_file(kRoot + "/config/sensors/leak_gpio.yaml"), gpio));
   return out;
 }
 

@@ -43,6 +43,10 @@
 #include "runtime/channels.hpp"
 #include "runtime/lockstep.hpp"
 #include "sensors/gnss_node.hpp"
+#include "sensors/gpio.hpp"
+#include "sensors/imu_node.hpp"
+#include "sensors/leak_node.hpp"
+#include "sensors/power_node.hpp"
 #include "sensors/pressure_node.hpp"
 #include "sim/sim_node.hpp"
 #include "teleop/teleop_node.hpp"
@@ -112,11 +116,14 @@ i2c::FakeBus& fake_bus() {
 std::vector<NodeCase> node_cases() {
   std::vector<NodeCase> out;
   for (const auto& f : shipped("control")) {
-    out.push_back({"VelocityPidNode", "tiller-velocity-pid " + rel(f), [f](InputContext&) {
+    // The controllers read the mixer's thruster commands (its gate): a two-thruster command.
+    out.push_back({"VelocityPidNode", "tiller-velocity-pid " + rel(f), [f](InputContext& ctx) {
+                     ctx.thrusters = {"port", "starboard"};
                      return std::make_unique<control::VelocityPidNode>(
                          control::load_velocity_pid_node_params(config::Value::load_file(f)));
                    }});
-    out.push_back({"StationKeepNode", "tiller-station-keep " + rel(f), [f](InputContext&) {
+    out.push_back({"StationKeepNode", "tiller-station-keep " + rel(f), [f](InputContext& ctx) {
+                     ctx.thrusters = {"port", "starboard"};
                      return std::make_unique<control::StationKeepNode>(
                          control::load_station_keep_node_params(config::Value::load_file(f)));
                    }});
@@ -170,6 +177,27 @@ std::vector<NodeCase> node_cases() {
     if (fs::path(f).filename().string().rfind("gnss", 0) != 0) continue;
     out.push_back({"GnssNode", "tiller-gnss " + rel(f), [f](InputContext&) {
                      return std::make_unique<sensors::GnssNode>(sensors::load_gnss_file(f));
+                   }});
+  }
+  for (const auto& f : shipped("sensors")) {
+    if (fs::path(f).filename().string().rfind("imu", 0) != 0) continue;
+    out.push_back({"ImuNode", "tiller-imu " + rel(f), [f](InputContext&) {
+                     return std::make_unique<sensors::ImuNode>(sensors::load_imu_file(f),
+                                                               fake_bus());
+                   }});
+  }
+  for (const auto& f : shipped("sensors")) {
+    if (fs::path(f).filename().string().rfind("power", 0) != 0) continue;
+    out.push_back({"PowerNode", "tiller-power " + rel(f), [f](InputContext&) {
+                     return std::make_unique<sensors::PowerNode>(sensors::load_power_file(f),
+                                                                 fake_bus());
+                   }});
+  }
+  for (const auto& f : shipped("sensors")) {
+    if (fs::path(f).filename().string().rfind("leak", 0) != 0) continue;
+    out.push_back({"LeakNode", "tiller-leak " + rel(f), [f](InputContext&) {
+                     static sensors::FakeGpio gpio;  // outlives the nodes
+                     return std::make_unique<sensors::LeakNode>(sensors::load_leak_file(f), gpio);
                    }});
   }
   for (const auto& f : shipped("missions")) {

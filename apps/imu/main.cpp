@@ -1,0 +1,28 @@
+// tiller-imu: a BNO055 (fusing AHRS) on Linux I2C -> TILLER_IMU and TILLER_HEADING.
+// A missing device is said in the heartbeat (FAULT, bus and address named) and retried; the
+// process keeps running.
+#include <cstdio>
+
+#include "i2c/linux_i2c.hpp"
+#include "runtime/app.hpp"
+#include "runtime/live.hpp"
+#include "sensors/imu_node.hpp"
+
+int main(int argc, char** argv) {
+  using namespace tiller;
+  const app::Spec spec{"tiller-imu",
+                       "BNO055 IMU on I2C -> body rates, specific force, orientation, heading",
+                       "config/sensors/imu_bno055.yaml",
+                       {}};
+  const app::Args args = app::parse(argc, argv, spec);
+  return app::guarded_main(spec.program, [&] {
+    const sensors::ImuParams p = sensors::load_imu_file(args.config);
+    i2c::LinuxI2c bus(p.bus);
+    sensors::ImuNode node(p, bus);
+    std::fprintf(stderr, "tiller-imu: %s at 0x%02x, %.0f Hz, heading %s\n", p.bus.c_str(),
+                 p.address, p.rate_hz, p.true_north ? "true" : "magnetic");
+    LiveExecutor ex(args.lcm_url, args.auth);
+    ex.add(node);
+    return ex.run();
+  });
+}
