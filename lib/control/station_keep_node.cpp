@@ -122,13 +122,14 @@ void StationKeepNode::on_velocity_wrench(const wrench_t& m, TimeUs now) {
 }
 
 void StationKeepNode::on_thruster_command(const thruster_command_t& m, TimeUs now) {
+  if (!on_time(command_fresh_, m.utime, now, "thruster_command")) return;
   if (checks::check(m) != nullptr) {  // unknown source or gate, commands out of [-1, 1]
     reject(first_use(bad_command_, "rejected.thruster_command.invalid"));
     return;
   }
   command_gate_ = m.gate;
   command_source_ = m.source;
-  command_fresh_.mark(now);
+  command_fresh_.mark(now, m.utime, clock_offset());
 }
 
 void StationKeepNode::publish_wrench(TimeUs now, bool valid, double x, double y, double n) {
