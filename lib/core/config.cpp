@@ -2,6 +2,7 @@
 
 #include <yaml-cpp/yaml.h>
 
+#include <algorithm>
 #include <cmath>
 #include <fstream>
 #include <map>
@@ -175,6 +176,40 @@ std::optional<Value> Value::find(std::string_view key) const {
   std::string p = join_path(path_, key);
   doc_->used.insert(p);
   return Value(doc_, child, p);
+}
+
+void Value::set(std::string_view dotted_path, const std::string& yaml_text) const {
+  const std::string where = doc_->file + ": " + join_path(path_, dotted_path);
+  std::vector<std::string> parts;
+  for (std::size_t b = 0; b <= dotted_path.size();) {
+    const std::size_t e = std::min(dotted_path.find('.', b), dotted_path.size());
+    parts.emplace_back(dotted_path.substr(b, e - b));
+    if (parts.back().empty()) throw Error(where + ": expected a key path like a.b.c");
+    b = e + 1;
+  }
+  YAML::Node value;
+  try {
+    value = YAML::Load(yaml_text);
+  } catch (const YAML::Exception& e) {
+    throw Error(where + ": cannot set to '" + yaml_text + "': YAML syntax error: " + e.msg);
+  }
+  if (value.IsNull() && yaml_text.find_first_not_of(" \t") == std::string::npos) {
+    throw Error(where + ": expected a value after '=', got nothing");
+  }
+  YAML::Node n = *node_;  // shares the document's node: changes go into the document
+  std::string p = path_;
+  for (std::size_t i = 0; i + 1 < parts.size(); ++i) {
+    p = join_path(p, parts[i]);
+    if (!n.IsMap()) throw Error(where + ": cannot set: " + p + " is not a map of keys");
+    const YAML::Node& cn = n;
+    const YAML::Node child = cn[parts[i]];
+    if (!child.IsDefined()) throw Error(where + ": cannot set: no key " + p + " in the file");
+    n.reset(child);
+  }
+  if (!n.IsMap())
+    throw Error(where + ": cannot set: " + (p.empty() ? "(top level)" : p) +
+                " is not a map of keys");
+  n[parts.back()] = value;
 }
 
 Value Value::at(std::string_view key) const {

@@ -122,6 +122,13 @@ class Value {
   // Marks this node and everything under it as read (for sections another loader owns).
   void mark_used() const;
 
+  // Replaces the value at a dotted key path under this map ("yaw.k_error") with `yaml_text`
+  // parsed as YAML ("40", "linear", "[1, 2]", "{kp: 3}"), in this loaded document, before a
+  // loader reads it (tiller-run --set). Every key on the way must be a map; the last key may be
+  // absent (it is added, and the loader's check_all_used refuses it if nobody reads it).
+  // Throws Error naming the file, the key path and the problem.
+  void set(std::string_view dotted_path, const std::string& yaml_text) const;
+
   // Throws Error with this node's file, line and key path, and `expected`.
   [[noreturn]] void fail(std::string_view expected) const;
   const std::string& path() const { return path_; }

@@ -10,6 +10,7 @@
 #include "mixer/mixer_node.hpp"
 #include "runtime/channels.hpp"
 #include "sim/sim_node.hpp"
+#include "sim/sim_options.hpp"
 #include "teleop/teleop_node.hpp"
 #include "teleop/teleop_params.hpp"
 
@@ -18,32 +19,15 @@ namespace tiller::replaytool {
 namespace ch = channels;
 
 namespace {
-// tiller-sim's options that override its config (apps/sim/main.cpp), as recorded in a launch
-// manifest. Other options are refused: replaying without them would compare another vehicle.
+// tiller-sim's options that override its config (lib/sim/sim_options.hpp, the parser tiller-sim
+// itself uses), as recorded in a launch manifest. Another option is refused: replaying without
+// it would compare another vehicle.
 std::unique_ptr<Node> make_sim(const std::string& config, const std::vector<std::string>& args) {
+  const SimOverrides o = sim_overrides(args);
   const auto root = config::Value::load_file(config);
   SimParams p = load_sim_params(root);
   root.check_all_used();
-  for (std::size_t i = 0; i < args.size(); ++i) {
-    std::string key = args[i], value;
-    if (key.rfind("--", 0) != 0) continue;
-    if (const auto eq = key.find('='); eq != std::string::npos) {
-      value = key.substr(eq + 1);
-      key = key.substr(0, eq);
-    } else if (i + 1 < args.size()) {
-      value = args[i + 1];
-    }
-    if (key == "--config" || key == "--lcm-url") {
-      continue;
-    } else if (key == "--vehicle") {
-      p.vehicle_file = value;
-    } else if (key == "--seed") {
-      p.seed = static_cast<std::uint64_t>(std::stoull(value));
-    } else {
-      throw std::invalid_argument("sim: replay cannot apply the recorded option " + key +
-                                  " (only --config, --vehicle, --seed)");
-    }
-  }
+  apply(o, p);
   return std::make_unique<SimNode>(p, load_sim_vehicle_file(p.vehicle_file));
 }
 }  // namespace

@@ -71,6 +71,11 @@ LeakNode::LeakNode(const LeakParams& p, GpioInputs& gpio)
   set_health(heartbeat_t::STATE_FAULT, "not read yet");
 }
 
+LeakNode::~LeakNode() {
+  for (Probe& pr : probes_)
+    if (pr.handle >= 0) gpio_.release(pr.handle);
+}
+
 void LeakNode::on_tick(TimeUs now) {
   bool any = false;
   for (std::size_t i = 0; i < probes_.size(); ++i) {

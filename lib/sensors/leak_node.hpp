@@ -50,6 +50,7 @@ LeakParams load_leak_file(const std::string& path);
 class LeakNode : public Node {
  public:
   LeakNode(const LeakParams& p, GpioInputs& gpio);
+  ~LeakNode() override;  // gives its lines back
   const leak_t& last() const { return msg_; }
 
  protected:

@@ -81,6 +81,7 @@ PowerNode::PowerNode(const PowerParams& p, i2c::Transport& bus)
       p_(p),
       bus_(bus),
       where_("ina226 on " + bus.name() + " at " + hex(p.address)),
+      degraded_(where_ + ": bus errors in the last second"),
       integ_(p.max_gap) {
   advertise<power_t>(p.channel);
   retries_ = &counter("bus.retries");
@@ -185,7 +186,7 @@ void PowerNode::sample(TimeUs now) {
     if (++consecutive_ >= p_.fault_after) {
       lost(now, err, std::to_string(consecutive_) + " reads failed in a row");
     } else {
-      set_health(heartbeat_t::STATE_DEGRADED, where_ + ": bus errors in the last second");
+      set_health(heartbeat_t::STATE_DEGRADED, degraded_);
     }
     return;
   }
@@ -219,7 +220,7 @@ void PowerNode::sample(TimeUs now) {
     publish(p_.channel, msg_);
   }
   if (last_failure_ != INT64_MIN && now - last_failure_ < kUsPerSecond) {
-    set_health(heartbeat_t::STATE_DEGRADED, where_ + ": bus errors in the last second");
+    set_health(heartbeat_t::STATE_DEGRADED, degraded_);
   } else {
     set_health(heartbeat_t::STATE_OK, where_);
   }

@@ -72,7 +72,8 @@ class PowerNode : public Node {
 
   PowerParams p_;
   i2c::Transport& bus_;
-  std::string where_;  // "ina226 on /dev/i2c-1 at 0x40"
+  std::string where_;     // "ina226 on /dev/i2c-1 at 0x40"
+  std::string degraded_;  // the status while bus errors are recent (built once)
   bool ready_ = false;
   TimeUs next_step_ = INT64_MIN;
   TimeUs last_failure_ = INT64_MIN;

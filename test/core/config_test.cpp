@@ -51,6 +51,38 @@ TEST(Config, ReadsTypedValues) {
   EXPECT_DOUBLE_EQ(v.number_or("absent", 7.0), 7.0);
 }
 
+// Value::set (tiller-run --set): replaces a value in the loaded document before a loader reads
+// it, adds a missing last key (for check_all_used to judge), and refuses a path it cannot follow.
+TEST(Config, SetReplacesAValueBeforeItIsRead) {
+  const Value v = Value::parse(kDoc, "test.yaml");
+  v.set("limits.max", "2.5");
+  v.set("rate_hz", "[1, 2]");
+  v.set("limits.min", "0.5");  // absent: added
+  EXPECT_DOUBLE_EQ(v.at("limits").number("max"), 2.5);
+  EXPECT_DOUBLE_EQ(v.at("limits").number("min"), 0.5);
+  EXPECT_EQ(v.at("rate_hz").as_numbers(2), (std::vector<double>{1, 2}));
+  EXPECT_EQ(v.string("name"), "otter");  // the rest untouched
+  v.set("name", "fast");
+  EXPECT_DOUBLE_EQ(v.at("limits").number("max"), 2.5);
+  EXPECT_EQ(v.string("name"), "fast");
+  // Set but never read: the strict check still names it.
+  const Value w = Value::parse(kDoc, "test.yaml");
+  w.mark_used();
+  w.set("limits.maxx", "3");
+  EXPECT_NE(error_of([&] { w.check_all_used(); }).find("limits.maxx: unknown key"),
+            std::string::npos);
+  EXPECT_EQ(error_of([&] { v.set("nothing.max", "1"); }),
+            "test.yaml: nothing.max: cannot set: no key nothing in the file");
+  EXPECT_EQ(error_of([&] { v.set("rate_hz.x", "1"); }),
+            "test.yaml: rate_hz.x: cannot set: rate_hz is not a map of keys");
+  EXPECT_EQ(error_of([&] { v.set("limits..max", "1"); }),
+            "test.yaml: limits..max: expected a key path like a.b.c");
+  EXPECT_EQ(error_of([&] { v.set("limits.max", ""); }),
+            "test.yaml: limits.max: expected a value after '=', got nothing");
+  EXPECT_NE(error_of([&] { v.set("limits.max", "[1, 2"); }).find("YAML syntax error"),
+            std::string::npos);
+}
+
 TEST(Config, MissingKeyNamesFileLineAndPath) {
   const Value v = Value::parse(kDoc, "vehicle.yaml");
   EXPECT_EQ(error_of([&] { v.at("limits").at("min"); }),

@@ -1,8 +1,9 @@
 // tiller-log summary flags what needs attention: a process that missed more than 1 % of its
 // ticks (2 % is flagged, 0.5 % is not), a DEGRADED or FAULT heartbeat at any time, rejected
-// messages, real time refused (realtime.refused = 1); and it explains its columns. tiller-plot's data: the heading is unwrapped (a turn
-// through south continues past 180 instead of jumping to -180), and each waypoint reached and
-// the mission's completion are marked where and when the path follower said so.
+// messages, real time refused (realtime.refused = 1); and it explains its columns. tiller-plot's
+// data: the heading is unwrapped (a turn through south continues past 180 instead of jumping to
+// -180), and each waypoint reached and the mission's completion are marked where and when the path
+// follower said so.
 #include <gtest/gtest.h>
 #include <unistd.h>
 

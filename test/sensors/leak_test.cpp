@@ -153,6 +153,17 @@ TEST(LeakNode, AReadErrorReadsWetAndTheLineIsRequestedAgain) {
   EXPECT_FALSE(r.out.readings.back().wet[0]);
 }
 
+TEST(LeakNode, GivesItsLinesBack) {
+  Rig r;
+  {
+    LeakNode n(r.p, r.gpio);
+    n.tick(0);
+    EXPECT_TRUE(r.gpio.line("gpiochip0", 27).requested);
+  }
+  EXPECT_FALSE(r.gpio.line("gpiochip0", 27).requested);
+  EXPECT_FALSE(r.gpio.line("gpiochip0", 22).requested);
+}
+
 TEST(LeakConfig, StrictLoader) {
   const auto p = load_leak_file(TILLER_SOURCE_DIR "/config/sensors/leak_gpio.yaml");
   ASSERT_EQ(p.probes.size(), 1u);

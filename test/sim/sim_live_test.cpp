@@ -155,6 +155,47 @@ TEST(SimLive, OdometryUnderLcmAndThrustDecaysWhenEscOutputStops) {
   EXPECT_EQ(sim.wait(5.0), 0);
 }
 
+// Issue 13, finding 5: a mission file's start: is where a simulated run starts. tiller-sim
+// --mission FILE (the launch files pass the mission they fly) starts the boat there; the pose
+// flags still win over it; a mission without start: (CSV) leaves the config's pose. (Before:
+// --mission was an unknown option, and the launch file started every mission at the config's
+// pose.)
+TEST(SimLive, MissionStartIsWhereTheBoatStarts) {
+  const auto dir = std::filesystem::temp_directory_path() / "tiller-sim-live-test";
+  std::filesystem::create_directories(dir);
+  const std::string mission = (dir / "start.yaml").string();
+  std::ofstream(mission) << "name: start\nstart: {north: 7, east: -4, heading_deg: 45}\n"
+                            "waypoints:\n  - [7, -4]\n  - [20, -4]\n";
+  const auto first_pose = [&](const std::vector<std::string>& extra) {
+    lcm::LCM lcm(kUrl);
+    Listener l;
+    lcm.subscribe(channels::kOdometry, &Listener::on_odom, &l);  // no noise in sim.yaml
+    std::vector<std::string> args = {"--vehicle", kSrc + "/config/vehicles/otter.yaml", "--lcm-url",
+                                     kUrl};
+    args.insert(args.end(), extra.begin(), extra.end());
+    Proc sim(args);
+    const auto end = std::chrono::steady_clock::now() + std::chrono::seconds(5);
+    while (l.odom.size() < 2 && std::chrono::steady_clock::now() < end) lcm.handleTimeout(10);
+    kill(sim.pid, SIGTERM);
+    EXPECT_EQ(sim.wait(5.0), 0) << sim.stderr_text();
+    return l.odom.empty() ? odometry_t{} : l.odom.front();
+  };
+  auto o = first_pose({"--mission", mission});
+  EXPECT_NEAR(o.position[0], 7.0, 1e-6);
+  EXPECT_NEAR(o.position[1], -4.0, 1e-6);
+  EXPECT_NEAR(o.orientation[2], kPi / 4, 1e-9);
+  o = first_pose({"--mission", mission, "--east", "2"});  // a flag wins over the mission
+  EXPECT_NEAR(o.position[0], 7.0, 1e-6);
+  EXPECT_NEAR(o.position[1], 2.0, 1e-6);
+  o = first_pose({"--mission", kSrc + "/config/missions/wayfinding.csv", "--north", "1"});
+  EXPECT_NEAR(o.position[0], 1.0, 1e-6);  // CSV: no start:, the config's pose (east 0)
+  EXPECT_NEAR(o.position[1], 0.0, 1e-6);
+  Proc missing({"--mission", "config/missions/no_such_mission.yaml", "--lcm-url", kUrl});
+  EXPECT_EQ(missing.wait(5.0), 2);
+  EXPECT_NE(missing.stderr_text().find("no_such_mission.yaml"), std::string::npos)
+      << missing.stderr_text();
+}
+
 TEST(SimLive, EveryVehicleFileRunsAndPublishesOdometry) {
   std::vector<std::string> vehicles;  // every shipped file, so a new one is covered
   for (const auto& e : std::filesystem::directory_iterator(kSrc + "/config/vehicles")) {

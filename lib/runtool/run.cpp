@@ -1,0 +1,187 @@
+#include "runtool/run.hpp"
+
+#include <tiller/path_progress_t.hpp>
+
+#include <filesystem>
+#include <initializer_list>
+#include <memory>
+#include <sstream>
+#include <stdexcept>
+
+#include "control/control_config.hpp"
+#include "control/station_keep_node.hpp"
+#include "control/velocity_pid_node.hpp"
+#include "core/config.hpp"
+#include "esc/esc_config.hpp"
+#include "esc/esc_node.hpp"
+#include "guidance/follower_config.hpp"
+#include "guidance/path_follower_node.hpp"
+#include "mission/mission.hpp"
+#include "mission/mission_node.hpp"
+#include "mixer/mixer_node.hpp"
+#include "runtime/app.hpp"
+#include "runtime/channels.hpp"
+#include "runtime/lockstep.hpp"
+#include "runtime/log.hpp"
+#include "sim/sim_node.hpp"
+#include "sim/sim_options.hpp"
+#include "vehicle/vehicle.hpp"
+
+namespace tiller::runtool {
+
+namespace fs = std::filesystem;
+
+Setting parse_setting(const std::string& text) {
+  const auto eq = text.find('=');
+  const auto dot = text.find('.');
+  if (eq == std::string::npos || dot == std::string::npos || dot > eq || dot == 0 || dot + 1 == eq)
+    throw std::runtime_error("expected FILE.KEY=VALUE (FILE one of " + std::string(kSettingFiles) +
+                             ", e.g. control.velocity_pid.yaw.k_error=40), got '" + text + "'");
+  Setting s{text.substr(0, dot), text.substr(dot + 1, eq - dot - 1), text.substr(eq + 1)};
+  bool known = false;
+  for (const char* f : {"sim", "esc", "mixer", "control", "guidance"}) known |= s.file == f;
+  if (!known)
+    throw std::runtime_error("'" + text + "': expected the file to be one of " +
+                             std::string(kSettingFiles) + ", got '" + s.file + "'");
+  return s;
+}
+
+namespace {
+
+std::string existing(const std::string& given, const std::string& fallback, const char* option) {
+  const std::string path = app::resolve_path(given.empty() ? fallback : given);
+  if (!fs::exists(path)) {
+    throw std::runtime_error(
+        "--" + std::string(option) + ": " + path + ": no such file" +
+        (given.empty() ? " (the default for this vehicle; give --" + std::string(option) + " FILE)"
+                       : ""));
+  }
+  return path;
+}
+
+config::Value load(const std::string& path, const std::string& file,
+                   const std::vector<Setting>& settings) {
+  const auto root = config::Value::load_file(path);
+  for (const auto& s : settings) {
+    if (s.file == file) root.set(s.key, s.value);
+  }
+  return root;
+}
+
+}  // namespace
+
+RunFiles resolve_files(const RunSpec& spec) {
+  RunFiles f;
+  if (spec.mission_file.empty()) throw std::runtime_error("no mission file given");
+  f.mission = existing(spec.mission_file, "", "mission");
+  f.vehicle = existing(spec.vehicle_file, "", "vehicle");
+  const std::string v = fs::path(f.vehicle).stem().string();
+  f.sim = existing(spec.sim_file, "", "sim");
+  f.esc = existing(spec.esc_file, "config/esc/" + v + "_sim.yaml", "esc");
+  f.mixer = existing(spec.mixer_file, "config/mixer/" + v + ".yaml", "mixer");
+  f.control = existing(spec.control_file, "config/control/" + v + ".yaml", "control");
+  f.guidance = existing(spec.guidance_file, "config/guidance/" + v + ".yaml", "guidance");
+  return f;
+}
+
+RunOutcome run(const RunSpec& spec) {
+  RunOutcome out;
+  out.files = resolve_files(spec);
+  const RunFiles& f = out.files;
+  const auto m = mission::load_mission_file(f.mission);
+
+  // tiller-sim with --vehicle, --mission and the given options, as the launch file starts it.
+  std::vector<std::string> args = {"--vehicle", f.vehicle, "--mission", f.mission};
+  args.insert(args.end(), spec.sim_args.begin(), spec.sim_args.end());
+  const SimOverrides so = sim_overrides(args);
+  const auto sroot = load(f.sim, "sim", spec.settings);
+  SimParams sp = load_sim_params(sroot);
+  sroot.check_all_used();
+  apply(so, sp);
+  out.start_north = sp.initial_eta[0];
+  out.start_east = sp.initial_eta[1];
+  out.start_heading = sp.initial_eta[5];
+  SimNode sim(sp, load_sim_vehicle_file(sp.vehicle_file));
+
+  const esc::EscConfig ec = esc::load_esc_config(load(f.esc, "esc", spec.settings));
+  if (ec.backend != "sim")
+    throw std::runtime_error(f.esc +
+                             ": backend: expected sim (tiller-run drives the simulator), "
+                             "got '" +
+                             ec.backend + "'");
+  EscNode esc(ec.node, esc::make_backend(ec));
+
+  const auto mroot = load(f.mixer, "mixer", spec.settings);
+  const MixerParams mp = load_mixer_params(mroot);
+  mroot.check_all_used();
+  MixerNode mixer(mp, load_vehicle_file(mp.vehicle_file));
+
+  const auto croot = load(f.control, "control", spec.settings);
+  control::VelocityPidNode vpid(control::load_velocity_pid_node_params(croot));
+  control::StationKeepNode skeep(control::load_station_keep_node_params(croot));
+
+  const auto groot = load(f.guidance, "guidance", spec.settings);
+  guidance::PathFollowerNode follower(guidance::load_follower_node_params(groot));
+  groot.check_all_used();
+
+  mission::MissionNode mnode(m, 1, kUsPerSecond);
+
+  // The order of the closed-loop harness (test/autonomy/harness.cpp): plant, then autonomy.
+  LockstepExecutor ex(0);
+  for (Node* n : std::initializer_list<Node*>{&sim, &esc, &mixer, &mnode, &follower, &vpid, &skeep})
+    ex.add(*n);
+
+  std::unique_ptr<LogWriter> log;
+  if (!spec.log_file.empty()) {
+    std::error_code ec_rm;
+    fs::remove(spec.log_file, ec_rm);  // lcm::LogFile appends; a run's log holds only that run
+    log = std::make_unique<LogWriter>(spec.log_file);
+  }
+  std::vector<Event> scored;
+  path_progress_t pr;
+  ex.observe([&](const std::string& ch, const std::uint8_t* d, int n, TimeUs t) {
+    ++out.messages;
+    if (log) log->write(ch, d, n, t);
+    if (ch == channels::kGroundTruth || ch == channels::kOdometry || ch == channels::kPath ||
+        ch == channels::kPathProgress) {
+      scored.push_back(Event{ch, t, std::vector<std::uint8_t>(d, d + n)});
+      if (ch == channels::kPathProgress && !out.completed && pr.decode(d, 0, n) == n &&
+          pr.complete) {
+        out.completed = true;
+        out.completed_at = to_seconds(t);
+      }
+    }
+  });
+
+  const double hold = spec.hold_s >= 0 ? spec.hold_s : m.station_keep_s;
+  const TimeUs limit = from_seconds(spec.time_limit_s >= 0 ? spec.time_limit_s : m.time_limit_s);
+  TimeUs t = 0;
+  while (t < limit) {
+    t += kUsPerSecond;
+    ex.run_until(t);
+    if (out.completed && to_seconds(t) >= out.completed_at + hold) break;
+  }
+  out.sim_s = to_seconds(t);
+  std::vector<scores::Goal> path;
+  for (const auto& w : m.waypoints) path.push_back({w.north, w.east, w.has_heading, w.heading});
+  out.scores = scores::score_events(scored, path);
+  return out;
+}
+
+std::string replay_manifest(const RunSpec& spec, const RunFiles& f) {
+  if (!spec.settings.empty()) return "";
+  std::ostringstream os;
+  os << "# Written by tiller-run: the config of each process of this lockstep run.\n"
+     << "# A lockstep log: replay must match bit for bit, heartbeats included.\n"
+     << "processes:\n"
+     << "  sim: {program: tiller-sim, config: " << f.sim << ", args: [--vehicle, " << f.vehicle
+     << ", --mission, " << f.mission;
+  for (const auto& a : spec.sim_args) os << ", \"" << a << "\"";
+  os << "]}\n"
+     << "  esc: " << f.esc << "\n  mixer: " << f.mixer << "\n  velocity-pid: " << f.control
+     << "\n  station-keep: " << f.control << "\n  path-follower: " << f.guidance
+     << "\nheartbeats: true\ntolerance: 0\ntime_tolerance_ms: 0\n";
+  return os.str();
+}
+
+}  // namespace tiller::runtool

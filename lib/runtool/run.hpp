@@ -1,0 +1,75 @@
+// tiller-run's logic: one mission file flown on the simulated vehicle in lockstep (simulated
+// time, as fast as the CPU goes) by the real node classes of a live simulated run -- tiller-sim,
+// tiller-esc (sim backend), tiller-mixer, tiller-mission, tiller-path-follower,
+// tiller-velocity-pid, tiller-station-keep -- built from the same config files, optionally
+// logged (an LCM log with the channels a live run logs, heartbeats included) and scored as
+// tiller-score scores a log (lib/scores/log_scores.hpp).
+//
+// The run ends when the path is complete and the goal held for the mission's station_keep_s
+// (checked at each whole simulated second, as the closed-loop test harness does), or at the
+// mission's time_limit_s. Same spec, same messages, bit for bit (no clock, seeded randomness).
+// The vehicle starts at the mission's start: pose (tiller-sim --mission); sim_args (tiller-sim's
+// options: --current-speed, --current-toward-deg, --seed, --north, ...) win over it.
+#pragma once
+
+#include <optional>
+#include <string>
+#include <vector>
+
+#include "scores/log_scores.hpp"
+
+namespace tiller::runtool {
+
+// One setting changed in one of the run's config files before it is loaded:
+// "control.velocity_pid.yaw.k_error=40" is file "control", key "velocity_pid.yaw.k_error",
+// value "40" (YAML text). Files: sim, esc, mixer, control, guidance.
+struct Setting {
+  std::string file, key, value;
+  std::string text() const { return file + "." + key + "=" + value; }
+};
+// Parses FILE.KEY=VALUE; throws std::runtime_error naming what is wrong.
+Setting parse_setting(const std::string& text);
+// The config files a setting can name.
+inline constexpr const char* kSettingFiles = "sim, esc, mixer, control, guidance";
+
+struct RunSpec {
+  std::string mission_file;  // YAML or CSV
+  std::string vehicle_file = "config/vehicles/otter.yaml";
+  std::string sim_file = "config/sim/sim.yaml";
+  // Empty: the vehicle's own, config/esc/<vehicle>_sim.yaml, config/mixer/<vehicle>.yaml,
+  // config/control/<vehicle>.yaml, config/guidance/<vehicle>.yaml (<vehicle>: the vehicle
+  // file's name without .yaml), as config/launch/sim_usv_mission.yaml names them for the Otter.
+  std::string esc_file, mixer_file, control_file, guidance_file;
+  std::vector<std::string> sim_args;  // tiller-sim options on top ("--current-speed", "0.3", ...)
+  std::vector<Setting> settings;
+  double hold_s = -1;        // s of station keeping after completion; < 0: the mission's
+  double time_limit_s = -1;  // s; < 0: the mission's
+  std::string log_file;      // empty: no log
+};
+
+// The files a run uses, defaults filled in and resolved (app::resolve_path).
+struct RunFiles {
+  std::string mission, vehicle, sim, esc, mixer, control, guidance;
+};
+// Throws std::runtime_error naming a file that does not exist and the option that sets it.
+RunFiles resolve_files(const RunSpec& spec);
+
+struct RunOutcome {
+  RunFiles files;
+  scores::RunScores scores;
+  bool completed = false;
+  double completed_at = -1;                                   // s
+  double sim_s = 0;                                           // simulated seconds run
+  std::size_t messages = 0;                                   // delivered (and logged)
+  double start_north = 0, start_east = 0, start_heading = 0;  // where the vehicle started
+};
+
+// Runs it. Config errors throw config::Error (file, line, key); others std::runtime_error.
+RunOutcome run(const RunSpec& spec);
+
+// The replay manifest for a logged run (tiller-replay LOG finds LOG's .replay.yaml): each
+// process with its config file and the simulator's options. Empty when settings changed a
+// config in memory (a replay from the files would compare another controller).
+std::string replay_manifest(const RunSpec& spec, const RunFiles& files);
+
+}  // namespace tiller::runtool

@@ -1,0 +1,43 @@
+// tiller-score's report: the scores of a run (lib/scores/scores.hpp) from its recorded messages,
+// and the lines tiller-score prints. The path is the first TILLER_PATH (or the mission's
+// waypoints when given); the pose is TILLER_GROUND_TRUTH when the run has it, else
+// TILLER_ODOMETRY; completion is the first TILLER_PATH_PROGRESS of that path saying complete.
+// Used by tiller-score (from a log) and tiller-run (from the lockstep run's messages), so both
+// print the same numbers for the same run.
+#pragma once
+
+#include <cstdio>
+#include <optional>
+#include <string>
+#include <vector>
+
+#include "runtime/event.hpp"
+#include "scores/scores.hpp"
+
+namespace tiller::scores {
+
+struct RunScores {
+  std::string pose_channel;  // TILLER_GROUND_TRUTH or TILLER_ODOMETRY
+  std::size_t samples = 0;   // poses scored
+  std::vector<Goal> path;    // as followed (path_as_followed)
+  PathScores path_scores;
+  double start = 0;              // s: first TILLER_PATH (else the first pose)
+  double end = 0;                // s: last pose
+  double station_keeping = -1;   // VRX station keeping from completion to the end; -1: none
+  double station_keeping_s = 0;  // s of it
+  std::vector<Pose> poses;       // the poses scored
+};
+
+// The events in time order (a log, or what a lockstep run published). `mission_path`: the
+// waypoints to score against (empty: the first TILLER_PATH's). Throws std::runtime_error when
+// there is no path or no pose.
+RunScores score_events(const std::vector<Event>& events,
+                       const std::vector<Goal>& mission_path = {});
+
+// The channels score_events reads (a regex for read_log).
+inline constexpr const char* kScoredChannels = "TILLER_(GROUND_TRUTH|ODOMETRY|PATH|PATH_PROGRESS)";
+
+// tiller-score's lines ("pose from ...", "waypoints ...", ..., "VRX station keeping ...").
+void print_scores(const RunScores& s, std::FILE* out);
+
+}  // namespace tiller::scores

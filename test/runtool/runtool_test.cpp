@@ -1,0 +1,209 @@
+// tiller-run's logic (lib/runtool): the default mission gives the closed-loop harness's numbers
+// (test/autonomy/harness.cpp, the lockstep runs behind closed_loop_test and missions_bench), the
+// mission's start: is where the boat starts, the same spec gives the same log bytes, settings
+// change what they name and refuse what they cannot, and a sweep's rows are the single runs'.
+#include <gtest/gtest.h>
+
+#include <filesystem>
+#include <fstream>
+#include <iterator>
+
+#include "core/config.hpp"
+#include "harness.hpp"
+#include "plants.hpp"
+#include "runtime/log.hpp"
+#include "runtool/run.hpp"
+#include "runtool/sweep.hpp"
+
+namespace tiller::runtool {
+namespace {
+
+const std::string kSrc = TILLER_SOURCE_DIR;
+const std::string kDefault = kSrc + "/config/missions/default.yaml";
+
+std::string tmp(const std::string& name) {
+  const auto dir = std::filesystem::temp_directory_path() / "tiller-runtool-test";
+  std::filesystem::create_directories(dir);
+  return (dir / name).string();
+}
+
+std::string bytes(const std::string& path) {
+  std::ifstream in(path, std::ios::binary);
+  return {std::istreambuf_iterator<char>(in), {}};
+}
+
+RunSpec default_spec() {
+  RunSpec s;
+  s.mission_file = kDefault;
+  return s;
+}
+
+// The harness's full Otter stack with the Otter's shipped configs (what tiller-run defaults to).
+test::RunConfig harness_config(double current_speed, double current_from_deg) {
+  test::RunConfig c;
+  const auto& otter = test::plants()[0];
+  c.mission_file = "config/missions/default.yaml";
+  c.control_file = otter.control_file;
+  c.guidance_file = otter.guidance_file;
+  c.make_plant = otter.make;
+  c.pose_channel = otter.pose_channel;
+  c.current_speed = current_speed;
+  c.current_from_deg = current_from_deg;
+  return c;
+}
+
+void expect_same_scores(const RunOutcome& o, const test::RunResult& h, double tol) {
+  ASSERT_TRUE(h.completed);
+  ASSERT_TRUE(o.completed);
+  const auto& p = o.scores.path_scores;
+  EXPECT_NEAR(o.completed_at, h.completed_at, tol);
+  EXPECT_NEAR(o.sim_s, h.sim_s, tol);
+  EXPECT_NEAR(p.cross_track_rms, h.path.cross_track_rms, tol);
+  EXPECT_NEAR(p.cross_track_max, h.path.cross_track_max, tol);
+  EXPECT_NEAR(p.final_position_error, h.path.final_position_error, tol);
+  EXPECT_NEAR(p.vrx_wayfinding, h.path.vrx_wayfinding, tol);
+  EXPECT_NEAR(o.scores.station_keeping, h.station_vrx, tol);
+  EXPECT_EQ(p.waypoints_missed, h.path.waypoints_missed);
+  EXPECT_EQ(p.waypoints_reached, h.path.waypoints_reached);
+}
+
+TEST(RunTool, DefaultMissionGivesTheHarnessNumbersInStillWater) {
+  const auto o = run(default_spec());
+  const auto h = test::run_mission(harness_config(0.0, 0.0));
+  expect_same_scores(o, h, 0.0);  // bit for bit: the same nodes, configs and order
+  EXPECT_EQ(o.scores.path_scores.waypoints_reached, 5);
+  EXPECT_GT(o.messages, 10000u);
+}
+
+TEST(RunTool, CurrentFlagsGiveTheHarnessNumbersInACurrent) {
+  RunSpec s = default_spec();
+  // The harness names where the water comes FROM (30 deg); tiller-sim where it flows (210 deg).
+  s.sim_args = {"--current-speed", "0.3", "--current-toward-deg", "210"};
+  const auto o = run(s);
+  const auto h = test::run_mission(harness_config(0.3, 30.0));
+  // Same up to the last bit of the direction (30 deg + pi vs 210 deg in radians).
+  expect_same_scores(o, h, 1e-6);
+  // And the current does something: the still-water run differs.
+  const auto still = run(default_spec());
+  EXPECT_GT(
+      std::abs(o.scores.path_scores.cross_track_rms - still.scores.path_scores.cross_track_rms),
+      1e-3);
+}
+
+TEST(RunTool, TheMissionStartIsWhereTheBoatStarts) {
+  const std::string m = tmp("start.yaml");
+  std::ofstream(m) << "name: start\nstart: {north: 5, east: -3, heading_deg: 90}\n"
+                      "time_limit_s: 5\nwaypoints:\n  - [5, -3]\n  - [5, 20]\n";
+  RunSpec s;
+  s.mission_file = m;
+  s.log_file = tmp("start.lcmlog");
+  const auto o = run(s);
+  EXPECT_DOUBLE_EQ(o.start_north, 5.0);
+  EXPECT_DOUBLE_EQ(o.start_east, -3.0);
+  EXPECT_NEAR(o.start_heading, 1.5707963267948966, 1e-12);
+  ASSERT_FALSE(o.scores.poses.empty());
+  EXPECT_NEAR(o.scores.poses.front().north, 5.0, 1e-3);
+  EXPECT_NEAR(o.scores.poses.front().east, -3.0, 1e-3);
+  EXPECT_NEAR(o.scores.poses.front().heading, 1.5707963267948966, 1e-3);
+  // The sim's options win over the mission's start.
+  s.sim_args = {"--north", "-2"};
+  EXPECT_DOUBLE_EQ(run(s).start_north, -2.0);
+  EXPECT_DOUBLE_EQ(run(s).start_east, -3.0);
+}
+
+TEST(RunTool, TheSameSpecWritesTheSameLogBytes) {
+  RunSpec s = default_spec();
+  s.sim_args = {"--current-speed", "0.3", "--current-toward-deg", "120"};
+  s.log_file = tmp("a.lcmlog");
+  const auto a = run(s);
+  s.log_file = tmp("b.lcmlog");
+  const auto b = run(s);
+  const std::string la = bytes(tmp("a.lcmlog")), lb = bytes(tmp("b.lcmlog"));
+  EXPECT_GT(la.size(), 100000u);
+  EXPECT_TRUE(la == lb) << "two runs of one spec wrote different logs";
+  EXPECT_EQ(a.messages, b.messages);
+  // The log holds every message the run delivered.
+  EXPECT_EQ(read_log(tmp("a.lcmlog")).size(), a.messages);
+}
+
+TEST(RunTool, SettingsChangeTheNamedKeyAndRefuseWhatTheyCannot) {
+  RunSpec s = default_spec();
+  s.settings = {parse_setting("guidance.follower.max_speed=1.0")};
+  const auto slow = run(s);
+  const auto base = run(default_spec());
+  ASSERT_TRUE(slow.completed);
+  EXPECT_GT(slow.completed_at, base.completed_at + 5);  // 1.0 m/s instead of 1.5 m/s
+  const auto refused = [&](const std::string& setting, const std::string& text) {
+    RunSpec b = default_spec();
+    b.settings = {parse_setting(setting)};
+    try {
+      run(b);
+      ADD_FAILURE() << setting << " was accepted";
+    } catch (const std::exception& e) {
+      EXPECT_NE(std::string(e.what()).find(text), std::string::npos) << e.what();
+    }
+  };
+  refused("control.velocity_pid.yaw.k_eror=40", "velocity_pid.yaw.k_eror: unknown key");
+  refused("guidance.follower.max_speed=fast", "follower.max_speed");
+  refused("control.no_such_section.kp=1", "no key no_such_section");
+  refused("mixer.rate_hz.x=1", "rate_hz is not a map");
+  EXPECT_THROW(parse_setting("yaw.kp=1"), std::runtime_error);        // no such file
+  EXPECT_THROW(parse_setting("control.yaw.kp"), std::runtime_error);  // no value
+}
+
+TEST(RunTool, MissingDefaultConfigNamesTheOptionThatSetsIt) {
+  RunSpec s = default_spec();
+  s.vehicle_file = "config/vehicles/seed000_rov4.yaml";  // an ROV: no guidance config
+  try {
+    resolve_files(s);
+    FAIL() << "resolved";
+  } catch (const std::runtime_error& e) {
+    EXPECT_NE(std::string(e.what()).find("the default for this vehicle; give --esc FILE"),
+              std::string::npos)
+        << e.what();
+  }
+}
+
+TEST(RunTool, AxesParseRangesListsAndRefuseNonsense) {
+  auto a = parse_axis("control.velocity_pid.yaw.k_error=20:80:4");
+  EXPECT_EQ(a.values, (std::vector<std::string>{"20", "40", "60", "80"}));
+  EXPECT_TRUE(a.numeric);
+  a = parse_axis("guidance=otter,seed");
+  EXPECT_EQ(a.values,
+            (std::vector<std::string>{"config/guidance/otter.yaml", "config/guidance/seed.yaml"}));
+  EXPECT_FALSE(a.numeric);
+  a = parse_axis("sim.initial.position_m=[0,0,0],[1,2,0]");
+  EXPECT_EQ(a.values.size(), 2u);
+  EXPECT_EQ(parse_axis("current-speed=0.1:0.1:1").values, std::vector<std::string>{"0.1"});
+  for (const char* bad : {"yaw=1,2", "control.x.kp", "current-speed=0:1:0",
+                          "current-speed=", "speed=1:2:3", "nofile.kp=1"}) {
+    EXPECT_THROW(parse_axis(bad), std::runtime_error) << bad;
+  }
+}
+
+TEST(RunTool, SweepRowsAreTheSingleRunsInGridOrder) {
+  RunSpec s = default_spec();
+  const std::vector<Axis> axes = {parse_axis("guidance.follower.max_speed=1.2,1.5"),
+                                  parse_axis("current-toward-deg=0,90")};
+  s.sim_args = {"--current-speed", "0.2"};
+  const auto rows = sweep(s, axes, 2);
+  ASSERT_EQ(rows.size(), 4u);
+  for (std::size_t i = 0; i < 4; ++i) {
+    ASSERT_TRUE(rows[i].ok) << rows[i].error;
+    EXPECT_EQ(rows[i].index, (std::vector<std::size_t>{i / 2, i % 2}));
+    const Row single = row_of(run(spec_at(s, axes, rows[i].index)));
+    EXPECT_EQ(rows[i].xte_rms, single.xte_rms);
+    EXPECT_EQ(rows[i].time_s, single.time_s);
+    EXPECT_EQ(rows[i].vrx_sk, single.vrx_sk);
+  }
+  EXPECT_NE(rows[0].xte_rms, rows[1].xte_rms);  // the axes change the run
+  // A point that cannot run is a row with its error, the others still run.
+  const auto bad = sweep(s, {parse_axis("guidance.follower.max_speed=1.5,-1")}, 2);
+  ASSERT_EQ(bad.size(), 2u);
+  EXPECT_TRUE(bad[0].ok);
+  EXPECT_FALSE(bad[1].ok);
+  EXPECT_NE(bad[1].error.find("max_speed"), std::string::npos) << bad[1].error;
+}
+
+}  // namespace
+}  // namespace tiller::runtool
