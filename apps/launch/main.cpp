@@ -8,6 +8,7 @@
 #include <fstream>
 #include <iostream>
 
+#include "auth/key.hpp"
 #include "launch/launch_file.hpp"
 #include "launch/plan.hpp"
 #include "launch/posix_host.hpp"
@@ -91,12 +92,19 @@ int run(int argc, char** argv) {
   // Every child gets the LCM URL and the signing settings; the key is checked now, before
   // anything starts (docs/safety.md, "Who may command").
   std::map<std::string, std::string> child_env{{"LCM_DEFAULT_URL", plan.lf.lcm_url}};
+  auth::Policy policy;  // the launcher's own: it checks heartbeats and signs its own
   try {
     if (args.explicitly("require-signed")) plan.lf.require_signed = true;
     const auto env = signing_env(plan.lf, {{"ROOT", plan.lf.root}},
                                  args.explicitly("key-file") ? args.auth.key_file : "", std::cout);
     child_env.insert(env.begin(), env.end());
     plan.signing = signing_summary(plan.lf, env);
+    if (const auto k = env.find("TILLER_KEY_FILE"); k != env.end()) {
+      policy.key = auth::load_key_file(k->second);
+      policy.key_file = k->second;
+    }
+    policy.require_signed = plan.lf.require_signed;
+    policy.window_us = from_seconds(plan.lf.auth_window_s);
   } catch (const std::exception& e) {
     std::cerr << "tiller-launch: " << e.what() << "\n";
     return kExitUsage;
@@ -114,7 +122,7 @@ int run(int argc, char** argv) {
     print_check(std::cout, plan, host);
     return kExitOk;
   }
-  return run_plan(plan, host, {every, status_file_of(args, lf.name)});
+  return run_plan(plan, host, {every, status_file_of(args, lf.name), policy});
 }
 
 }  // namespace

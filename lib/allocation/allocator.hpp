@@ -23,15 +23,15 @@
 //                         exactly whenever they fit on their own;
 //   Spare thrusters: when a group has more thrusters than owned axes (null space: X drive,
 //   H drive, the 4-thruster ROV), "largest" is over every thrust that makes the wrench, not
-//   only the minimum-norm (pseudo-inverse) pattern: a small bounded simplex (lp_max_scale,
-//   fixed-size arrays, <= 6 rows, <= 17 columns) maximises mu with lo <= f <= hi and
-//   B_g f = B_g f0 + mu d. The returned thrust is the minimum-norm one whenever that fits (so
-//   the unsaturated path, and every group without spare thrusters, e.g. the Otter and WAM-V,
-//   are the pseudo-inverse bit for bit), else one chosen from the wrench alone: with one spare
-//   direction the point within limits nearest the minimum-norm one; with more, the cascaded
-//   pseudo-inverse (thrusters beyond a limit fixed there, the rest re-solved), falling back to
-//   the first point within limits on the segment toward the LP's vertex. The same solver
-//   gives axis_max() and, per level, the prioritised allocation.
+//   only the minimum-norm (pseudo-inverse) pattern: the attainable set is a zonotope whose
+//   facets (listed at load when there are at most kMaxFacets) give the room along any ray; a
+//   group with more facets uses a small bounded simplex (lp_max_scale, fixed-size arrays,
+//   <= 6 rows, <= 17 columns). The returned thrust is the minimum-norm one whenever that fits
+//   (so the unsaturated path, and every group without spare thrusters, e.g. the Otter and
+//   WAM-V, are the pseudo-inverse bit for bit), else the one nearest it among the thrusts
+//   within limits that make the allocated wrench (nearest_within_limits: a least-distance
+//   problem in the null space, dual active set): unique, so continuous in the demand. The
+//   simplex gives axis_max() at load.
 //   clip                  unconstrained solution clipped per thruster (for comparison only).
 // Explicit-matrix vehicles (seed tables): s = M * tau_norm with tau_norm_j = tau_j /
 // full_scale_j (full_scale: the wrench one unit of axis j gives, from the geometry). units:
@@ -137,15 +137,27 @@ class Allocator {
     std::vector<std::vector<int>> levels;  // prioritised: positions into `axes`, by level
     int null_dim = 0;  // idx.size() - axes.size(): spare thrusters (0: the pseudo-inverse is all)
     Lp lp;             // over B[axes, idx], used only when null_dim > 0
+    // Orthonormal basis of the null space of B[axes, idx] (idx.size() x null_dim), its rows'
+    // norms, and the bound widening of nearest_within_limits (N).
+    Eigen::Matrix<double, Eigen::Dynamic, Eigen::Dynamic, 0, kMaxThrusters, kMaxThrusters> null;
+    std::array<double, kMaxThrusters> null_row_norm{};
+    double pad = 0;
     // The attainable set {B[axes, idx] f : lo <= f <= hi} is a zonotope; its facets (unit
     // normal n, support h: n . w <= h), when there are at most kMaxFacets, give the largest
     // scale along any ray without the LP (the LP then only finds the thrust).
-    std::vector<std::array<double, 7>> facets;  // n[0..m-1], h at [6]
+    std::vector<std::array<double, 7>> facets;                     // n[0..m-1], h at [6]; distinct
+    std::array<std::vector<double>, 6> facet_n;                    // facet_n[r][f] = facets[f][r]
+    std::vector<double> facet_h;                                   // facet_h[f] = facets[f][6]
+    std::array<std::array<std::vector<int>, 2>, 6> facet_by_axis;  // [r][0]: n_r > 0, [1]: < 0
   };
   static constexpr std::size_t kMaxFacets = 128;
-  // Largest mu >= 0 with c + mu d in group g's zonotope (c inside); +inf if d is 0. Only with
-  // facets.
-  static double facet_max_scale(const Group& g, const Small& c, const Small& d);
+  // Largest mu in [0, cap] with c + mu d in group g's zonotope (c inside); cap if d is 0. Only
+  // with facets.
+  static double facet_max_scale(const Group& g, const Small& c, const Small& d, double cap);
+  // Prioritised levels over the facets: target on the group's axes, comp what earlier groups do
+  // there; got = what each axis gets (levels in order, passes), left = what it does not.
+  void prioritised_facets(const Group& g, const Small& target, const Small& comp, Small& got,
+                          Small& left) const;
   static Small group_wrench(const Group& g, const ThrustVec& fg);  // B[axes, idx] * fg
 
   // Max mu >= 0 with lo <= mu*a + b <= hi over group g; -1 if mu = 0 is infeasible;
@@ -160,10 +172,10 @@ class Allocator {
   // A feasible f for group g with B_g f = B_g b (b: the minimum-norm compensation); false if
   // there is none.
   bool feasible_start(const Group& g, const ThrustVec& b, ThrustVec& f0) const;
-  // Among points solving the same equations, from the minimum-norm f_mn toward the feasible
-  // f_v, the first one within limits (f_mn itself when it fits).
-  void toward_feasible(const Group& g, const ThrustVec& f_mn, ThrustVec& f_v) const;
-  bool cascade(const Group& g, const ThrustVec& f_mn, ThrustVec& f) const;
+  // f in: the minimum-norm thrust for a wrench w (B_g f = w); out: the thrust nearest it among
+  // those within limits that make w (unique; continuous in w). False if w is out of reach (f then
+  // as near as the solver got). Allocates nothing.
+  bool nearest_within_limits(const Group& g, ThrustVec& f) const;
   void clamp_group(const Group& g, ThrustVec& f) const;
   bool finish(ThrustVec& thrust, AllocationResult& out) const;
   void allocate_matrix(const Wrench& tau_norm, AllocationResult& out) const;

@@ -1,6 +1,6 @@
 // The bounded solver: largest scale along the minimum-norm pattern, the bounded simplex over the
-// null space, the zonotope facets' largest scale, a feasible start, and how the thrust is chosen
-// among those making the achieved wrench.
+// null space, the zonotope facets' largest scale and prioritised levels over them, a feasible
+// start. (The thrust for a wrench: nearest.cpp.)
 #include "allocation/allocator.hpp"
 
 #include <Eigen/Dense>
@@ -194,32 +194,91 @@ Allocator::Small Allocator::group_wrench(const Group& g, const ThrustVec& fg) {
   return w;
 }
 
-double Allocator::facet_max_scale(const Group& g, const Small& c, const Small& d) {
-  const auto m = static_cast<int>(g.axes.size());
-  double cc[6], dd[6], dmax = 0;
-  for (int r = 0; r < m; ++r) {
-    cc[r] = c(r);
-    dd[r] = d(r);
-    dmax = std::max(dmax, std::abs(dd[r]));
+double Allocator::facet_max_scale(const Group& g, const Small& c, const Small& d, double cap) {
+  const auto m = static_cast<std::size_t>(g.axes.size());
+  double dmax = 0;
+  bool c_zero = true;
+  for (std::size_t r = 0; r < m; ++r) {
+    dmax = std::max(dmax, std::abs(d(static_cast<Eigen::Index>(r))));
+    c_zero = c_zero && c(static_cast<Eigen::Index>(r)) == 0.0;
   }
   const double tiny = 1e-12 * dmax;
-  // min over facets with n.d > 0 of (h - n.c) / (n.d), kept as a fraction num / den (den > 0)
-  // so that only one division is made.
-  double num = 1, den = 0;
-  for (const auto& f : g.facets) {
-    double nd = 0, nc = 0;
-    for (int r = 0; r < m; ++r) {
-      nd += f[static_cast<std::size_t>(r)] * dd[r];
-      nc += f[static_cast<std::size_t>(r)] * cc[r];
-    }
-    const double h = f[6] - nc;
-    if (nd > tiny && (den == 0 || h * den < num * nd)) {
-      num = h;
-      den = nd;
-    }
+  // min over facets with n.d > 0 of (h - n.c) / (n.d), below cap: a facet is divided only when
+  // it is below the best so far.
+  double best = cap;
+  for (std::size_t f = 0; f < g.facet_h.size(); ++f) {
+    double nd = 0;
+    for (std::size_t r = 0; r < m; ++r) nd += g.facet_n[r][f] * d(static_cast<Eigen::Index>(r));
+    if (!(nd > tiny)) continue;
+    double slack = g.facet_h[f];
+    if (!c_zero)
+      for (std::size_t r = 0; r < m; ++r)
+        slack -= g.facet_n[r][f] * c(static_cast<Eigen::Index>(r));
+    if (slack < best * nd) best = slack / nd;
   }
-  if (den == 0) return kInf;
-  return std::max(num / den, 0.0);
+  return std::max(best, 0.0);
+}
+
+// Levels in order, each as far as the facets allow from the wrench so far (every other axis held
+// where it is), in passes until nothing moves (at most 4). The slack of every facet,
+// h - n . (wrench so far), is kept up to date as levels move, so a one-axis level looks only at
+// the facets whose normal leans along its axis that way.
+void Allocator::prioritised_facets(const Group& g, const Small& target, const Small& comp,
+                                   Small& got, Small& left) const {
+  const auto m = static_cast<std::size_t>(g.axes.size());
+  const std::size_t nf = g.facet_h.size();
+  double slack[kMaxFacets];
+  for (std::size_t f = 0; f < nf; ++f) {
+    double s = g.facet_h[f];
+    for (std::size_t r = 0; r < m; ++r) s += g.facet_n[r][f] * comp(static_cast<Eigen::Index>(r));
+    slack[f] = s;
+  }
+  got.setZero();
+  left = target;
+  std::array<int, 6> solved_at;  // a level is solved again only if another moved since
+  solved_at.fill(-1);
+  int changes = 0;
+  for (int pass = 0; pass < 4; ++pass) {
+    bool progress = false;
+    for (std::size_t li = 0; li < g.levels.size(); ++li) {
+      const auto& level = g.levels[li];
+      if (solved_at[li] == changes) continue;
+      solved_at[li] = changes;
+      double dmax = 0;
+      for (int k : level) dmax = std::max(dmax, std::abs(left(k)));
+      if (dmax <= 0.0) continue;
+      double best = 1.0;
+      if (level.size() == 1) {
+        const auto k = static_cast<std::size_t>(level[0]);
+        const double dk = left(level[0]);
+        for (int f : g.facet_by_axis[k][dk > 0 ? 0 : 1]) {
+          const double nd = g.facet_n[k][static_cast<std::size_t>(f)] * dk;
+          if (slack[f] < best * nd) best = slack[f] / nd;
+        }
+      } else {
+        for (std::size_t f = 0; f < nf; ++f) {
+          double nd = 0;
+          for (int k : level) nd += g.facet_n[static_cast<std::size_t>(k)][f] * left(k);
+          if (nd > 1e-12 * dmax && slack[f] < best * nd) best = slack[f] / nd;
+        }
+      }
+      const double alpha = std::max(best, 0.0);
+      if (!(alpha > 1e-12)) continue;
+      for (std::size_t f = 0; f < nf; ++f) {
+        double nd = 0;
+        for (int k : level) nd += g.facet_n[static_cast<std::size_t>(k)][f] * left(k);
+        slack[f] -= alpha * nd;
+      }
+      for (int k : level) {
+        got(k) += alpha * left(k);
+        left(k) = alpha == 1.0 ? 0.0 : left(k) * (1.0 - alpha);
+      }
+      ++changes;
+      solved_at[li] = changes;
+      progress = true;
+    }
+    if (!progress) break;
+  }
 }
 
 bool Allocator::feasible_start(const Group& g, const ThrustVec& b, ThrustVec& f0) const {
@@ -243,86 +302,6 @@ bool Allocator::feasible_start(const Group& g, const ThrustVec& b, ThrustVec& f0
   if (reach < 1.0 - 1e-9) return false;
   f0 = f;
   return true;
-}
-
-// Cascaded pseudo-inverse from the minimum-norm point: thrusters beyond a limit are fixed at it
-// and the rest re-solved (minimum norm) for the same wrench, until everything fits. Depends on
-// the wrench alone, and a thruster reaching its limit changes nothing at that moment, so the
-// result moves continuously with the demand. False when it runs out of free thrusters.
-bool Allocator::cascade(const Group& g, const ThrustVec& f_mn, ThrustVec& f) const {
-  const int m = static_cast<int>(g.axes.size()), n = static_cast<int>(g.idx.size());
-  const Small w = group_wrench(g, f_mn);
-  f = f_mn;
-  bool fixed[kMaxThrusters] = {};
-  for (int iter = 0; iter < n; ++iter) {
-    bool any = false;
-    for (int k = 0; k < n; ++k) {
-      const auto kk = static_cast<std::size_t>(k);
-      const double lo = g.lp.lo[kk], hi = g.lp.hi[kk];
-      const double tol = 1e-9 * (1.0 + std::max(hi, -lo));
-      if (!fixed[k] && (f(k) > hi + tol || f(k) < lo - tol)) {
-        f(k) = std::clamp(f(k), lo, hi);
-        fixed[k] = true;
-        any = true;
-      }
-    }
-    if (!any) return true;
-    // Free thrusters: minimum norm for w - (fixed ones' wrench), f_F = B_F' (B_F B_F')^-1 r.
-    Small r = w;
-    int nfree = 0;
-    for (int k = 0; k < n; ++k) {
-      if (!fixed[k]) {
-        ++nfree;
-        continue;
-      }
-      for (int a = 0; a < m; ++a) r(a) -= g.rows(a, g.idx[static_cast<std::size_t>(k)]) * f(k);
-    }
-    if (nfree < m) return false;
-    Eigen::Matrix<double, Eigen::Dynamic, Eigen::Dynamic, 0, 6, 6> gram =
-        Eigen::Matrix<double, Eigen::Dynamic, Eigen::Dynamic, 0, 6, 6>::Zero(m, m);
-    for (int k = 0; k < n; ++k) {
-      if (fixed[k]) continue;
-      const int col = g.idx[static_cast<std::size_t>(k)];
-      for (int a = 0; a < m; ++a)
-        for (int c = 0; c < m; ++c) gram(a, c) += g.rows(a, col) * g.rows(c, col);
-    }
-    Eigen::LLT<Eigen::Matrix<double, Eigen::Dynamic, Eigen::Dynamic, 0, 6, 6>> llt(gram);
-    if (llt.info() != Eigen::Success) return false;
-    const Small y = llt.solve(r);
-    for (int k = 0; k < n; ++k) {
-      if (fixed[k]) continue;
-      const int col = g.idx[static_cast<std::size_t>(k)];
-      double v = 0;
-      for (int a = 0; a < m; ++a) v += g.rows(a, col) * y(a);
-      f(k) = v;
-    }
-  }
-  return false;
-}
-
-void Allocator::toward_feasible(const Group& g, const ThrustVec& f_mn, ThrustVec& f_v) const {
-  // With one spare direction, the first point within limits on the way from f_mn is the
-  // nearest whatever feasible f_v is. With more, the cascade (when it succeeds) is used: the
-  // segment toward an LP vertex could jump between vertices as the demand changes.
-  if (g.null_dim >= 2) {
-    ThrustVec fc;
-    if (cascade(g, f_mn, fc)) {
-      for (std::size_t k = 0; k < g.idx.size(); ++k)
-        fc(static_cast<Eigen::Index>(k)) =
-            std::clamp(fc(static_cast<Eigen::Index>(k)), g.lp.lo[k], g.lp.hi[k]);
-      f_v = fc;
-      return;
-    }
-  }
-  double t = 0;
-  for (std::size_t k = 0; k < g.idx.size(); ++k) {
-    const auto kk = static_cast<Eigen::Index>(k);
-    const double a = f_mn(kk), v = f_v(kk);
-    if (a > g.lp.hi[k] && a > v) t = std::max(t, (a - g.lp.hi[k]) / (a - v));
-    if (a < g.lp.lo[k] && a < v) t = std::max(t, (g.lp.lo[k] - a) / (v - a));
-  }
-  t = std::min(t, 1.0);
-  f_v = f_mn + t * (f_v - f_mn);
 }
 
 void Allocator::clamp_group(const Group& g, ThrustVec& f) const {

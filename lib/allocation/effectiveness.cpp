@@ -136,6 +136,14 @@ Allocator::Allocator(const Vehicle& vehicle)
       }
       const Eigen::MatrixXd bg = rows_cols(b_full_, g.axes, g.idx);
       g.lp = make_lp(bg, glo, ghi);
+      Eigen::JacobiSVD<Eigen::MatrixXd> svd(bg, Eigen::ComputeFullV);
+      g.null = svd.matrixV().rightCols(g.null_dim);
+      double largest = 0;
+      for (std::size_t k = 0; k < g.idx.size(); ++k) {
+        g.null_row_norm[k] = g.null.row(static_cast<Eigen::Index>(k)).norm();
+        largest = std::max({largest, ghi[k], -glo[k]});
+      }
+      g.pad = 1e-12 * largest;
       // Facets of the zonotope: normals orthogonal to m - 1 independent generators.
       const int m = static_cast<int>(g.axes.size()), ng = static_cast<int>(g.idx.size());
       double count = 1;  // C(ng, m - 1)
@@ -153,7 +161,15 @@ Allocator::Allocator(const Vehicle& vehicle)
             }
             for (int r = 0; r < m; ++r) fct[static_cast<std::size_t>(r)] = sgn * nrm(r);
             fct[6] = h;
-            g.facets.push_back(fct);
+            // Generator subsets spanning the same hyperplane give the same facet: keep one.
+            const bool seen = std::any_of(g.facets.begin(), g.facets.end(), [&](const auto& o) {
+              for (int r = 0; r < m; ++r)
+                if (std::abs(o[static_cast<std::size_t>(r)] - fct[static_cast<std::size_t>(r)]) >
+                    1e-9)
+                  return false;
+              return true;
+            });
+            if (!seen) g.facets.push_back(fct);
           }
         };
         if (m == 1) {
@@ -176,6 +192,20 @@ Allocator::Allocator(const Vehicle& vehicle)
               pick[static_cast<std::size_t>(q)] = pick[static_cast<std::size_t>(q - 1)] + 1;
           }
         }
+      }
+    }
+    // The same facets by axis, for the hot path: component r of every normal in one array, and
+    // per axis the facets whose normal has a positive / negative component along it.
+    const auto nf = g.facets.size();
+    g.facet_h.resize(nf);
+    for (std::size_t r = 0; r < g.axes.size(); ++r) g.facet_n[r].resize(nf);
+    for (std::size_t f = 0; f < nf; ++f) {
+      g.facet_h[f] = g.facets[f][6];
+      for (std::size_t r = 0; r < g.axes.size(); ++r) {
+        const double c = g.facets[f][r];
+        g.facet_n[r][f] = c;
+        if (c > 1e-12) g.facet_by_axis[r][0].push_back(static_cast<int>(f));
+        if (c < -1e-12) g.facet_by_axis[r][1].push_back(static_cast<int>(f));
       }
     }
     for (const auto& level : vehicle.allocation.priority) {

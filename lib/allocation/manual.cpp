@@ -46,27 +46,29 @@ bool Allocator::allocate_manual(const Wrench& stick, AllocationResult& out) cons
       ThrustVec f0, fv;
       bool done = false;
       if (g.null_dim > 0 && mu >= 0 && !g.facets.empty()) {
-        // Fast path: the largest along d from the zonotope's facets; the stick's fraction of it
-        // along the minimum-norm pattern, when that fits.
-        const double mu_f = facet_max_scale(g, -comp, d);
-        if (std::isfinite(mu_f) && (m * mu_f) <= mu * (1 + 1e-12)) {
+        // The largest along d from the zonotope's facets; the stick's fraction of it: the
+        // minimum-norm thrust when it fits, else the thrust nearest it that makes the wrench.
+        const double mu_f = facet_max_scale(g, -comp, d, kInf);
+        if (std::isfinite(mu_f)) {
+          const bool fits = (m * mu_f) <= mu * (1 + 1e-12);
           mu = mu_f;
           fg = (m * mu) * a + b;
-          clamp_group(g, fg);  // rounding only: m * mu_f is within the pattern's own reach
+          if (fits)
+            clamp_group(g, fg);  // rounding only: m * mu_f is within the pattern's own reach
+          else
+            nearest_within_limits(g, fg);
           done = true;
         }
       }
       if (done) {
       } else if (g.null_dim > 0 && feasible_start(g, b, f0)) {
-        // Spare thrusters: the largest achievable along d over the whole null space (mu), then
-        // the stick's fraction m of it: the minimum-norm point when it fits, else the nearest
-        // to it on the way to m * (optimum) + (1 - m) * (start), which solves the same.
+        // Spare thrusters, too many facets to list: the largest achievable along d over the
+        // whole null space (mu) from the bounded simplex, then the stick's fraction m of it with
+        // the thrust nearest the minimum-norm one.
         mu = lp_max_scale(g.lp, f0, d, kInf, fv);
         if (!std::isfinite(mu)) mu = 0;
         fg = (m * mu) * a + b;
-        ThrustVec mix = m * fv + (1.0 - m) * f0;
-        toward_feasible(g, fg, mix);
-        fg = mix;
+        nearest_within_limits(g, fg);
       } else if (mu < 0) {
         fg = m * a + b;
         clamp_group(g, fg);

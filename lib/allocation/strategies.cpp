@@ -68,21 +68,22 @@ bool Allocator::allocate(const Wrench& tau, AllocationResult& out) const {
         ThrustVec f0;
         const double mu_mn = max_scale(g, a, b);
         if (g.null_dim > 0 && mu_mn < 1.0 && mu_mn >= 0 && !g.facets.empty()) {
-          // The zonotope's facets give the true largest scale at once; when the minimum-norm
-          // pattern already reaches it (symmetric layouts), that is the answer, no LP.
-          const double mu_f = std::min(1.0, facet_max_scale(g, -comp, target));
-          if (mu_mn >= mu_f * (1 - 1e-12)) {
-            fg = mu_mn * a + b;
-            out.scale = std::min(out.scale, mu_mn);
-            break;
-          }
+          // The zonotope's facets give the true largest scale at once (the minimum-norm pattern
+          // may already reach it: symmetric layouts); then the thrust nearest the minimum-norm
+          // one that makes that wrench.
+          const double mu = facet_max_scale(g, -comp, target, 1.0);
+          fg = std::max(mu, mu_mn) * a + b;
+          if (mu_mn < mu * (1 - 1e-12)) nearest_within_limits(g, fg);
+          out.scale = std::min(out.scale, std::max(mu, mu_mn));
+          break;
         }
         if (g.null_dim > 0 && mu_mn < 1.0 && feasible_start(g, b, f0)) {
-          // Spare thrusters: the largest scale over the whole null space, not only along the
-          // minimum-norm pattern; then the point nearest the minimum-norm one on the way there.
+          // Spare thrusters, too many facets to list: the largest scale over the whole null
+          // space from the bounded simplex, then the thrust nearest the minimum-norm one.
           double mu = lp_max_scale(g.lp, f0, target, 1.0, fg);
           if (mu > 1.0 - 1e-12) mu = 1.0;
-          toward_feasible(g, mu * a + b, fg);
+          fg = mu * a + b;
+          nearest_within_limits(g, fg);
           out.scale = std::min(out.scale, mu);
           break;
         }
@@ -110,14 +111,23 @@ bool Allocator::allocate(const Wrench& tau, AllocationResult& out) const {
         fg = b;
         Small left = target;
         ThrustVec f0;
-        if (g.null_dim > 0 && feasible_start(g, b, f0)) {
+        // (max_scale(g, x, x) >= 0: x is within limits.)
+        const bool facets = g.null_dim > 0 && !g.facets.empty() && max_scale(g, b, b) >= 0;
+        if (facets) {
           // Spare thrusters: each level takes what the whole null space allows, with every other
-          // axis held where it is (earlier levels at what they got, later ones so far).
+          // axis held where it is (earlier levels at what they got, later ones so far), from the
+          // zonotope's facets; then the thrust nearest the minimum-norm one for what they got.
+          Small got(na);
+          prioritised_facets(g, target, comp, got, left);
+          fg = g.pinv * got + b;
+          nearest_within_limits(g, fg);
+        } else if (g.null_dim > 0 && feasible_start(g, b, f0)) {
+          // The same with too many facets to list: each level's room from the bounded simplex,
+          // started from the previous level's thrust.
           fg = f0;
           Small got = Small::Zero(na);
           ThrustVec fv;
-          // A level is solved again only if another level moved since it was last solved.
-          std::array<int, 6> solved_at;
+          std::array<int, 6> solved_at;  // a level is solved again only if another moved since
           solved_at.fill(-1);
           int changes = 0;
           for (int pass = 0; pass < 4; ++pass) {
@@ -127,20 +137,8 @@ bool Allocator::allocate(const Wrench& tau, AllocationResult& out) const {
               Small part = Small::Zero(na);
               for (int k : level) part(k) = left(k);
               if (part.cwiseAbs().maxCoeff() <= 0.0 || solved_at[li] == changes) continue;
-              const ThrustVec v = g.pinv * part;
-              double alpha;
-              if (max_scale(g, v, fg) >= 1.0) {  // fits along the minimum-norm pattern
-                alpha = 1.0;
-                fv = fg + v;
-              } else if (pass > 0 && !g.facets.empty() &&
-                         facet_max_scale(g, got - comp, part) <= 1e-12) {
-                // Solved again after other levels moved, and the facets say there is still no
-                // room along this level (B fg = got - comp): no LP.
-                alpha = 0.0;
-              } else {
-                alpha = lp_max_scale(g.lp, fg, part, 1.0, fv);
-                if (alpha > 1.0 - 1e-12) alpha = 1.0;
-              }
+              double alpha = lp_max_scale(g.lp, fg, part, 1.0, fv);
+              if (alpha > 1.0 - 1e-12) alpha = 1.0;
               solved_at[li] = changes;
               if (alpha > 1e-12) {
                 ++changes;
@@ -155,7 +153,8 @@ bool Allocator::allocate(const Wrench& tau, AllocationResult& out) const {
             }
             if (!progress) break;
           }
-          toward_feasible(g, g.pinv * got + b, fg);
+          fg = g.pinv * got + b;
+          nearest_within_limits(g, fg);
         } else {
           if (max_scale(g, ThrustVec::Zero(b.size()), b) < 0) clamp_group(g, fg);
           for (int pass = 0; pass < 4; ++pass) {

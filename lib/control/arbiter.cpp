@@ -8,6 +8,7 @@ namespace tiller::control {
 ArbiterDecision Arbiter::decide(const ArbiterInput& in) {
   ArbiterDecision d;
   d.mode = in.mode;
+  if (in.mode != controller_mode_t::WAYPOINTING) had_path_ = false;
   switch (in.mode) {
     case controller_mode_t::MANUAL_OPEN_LOOP:
       d.source = wrench_t::SOURCE_MANUAL_DEMAND;
@@ -17,27 +18,44 @@ ArbiterDecision Arbiter::decide(const ArbiterInput& in) {
       d.source = wrench_t::SOURCE_VELOCITY_PID;
       d.reason = "manual closed loop: velocity PID on the manual command";
       break;
-    case controller_mode_t::WAYPOINTING:
-      if (!in.progress_fresh || !in.path_active) {
+    case controller_mode_t::WAYPOINTING: {
+      const bool following = in.progress_fresh && in.path_active;
+      if (following) had_path_ = true;
+      if (following && in.setpoint_fresh) {
+        if (in.complete && (in.distance_to_goal <= p_.station_radius ||
+                            (last_source_ == wrench_t::SOURCE_STATION_KEEP &&
+                             in.distance_to_goal <= p_.station_radius + p_.hysteresis))) {
+          d.source = wrench_t::SOURCE_STATION_KEEP;
+          d.reason = "waypointing: path complete, near the goal: station keeping";
+        } else {
+          d.source = wrench_t::SOURCE_VELOCITY_PID;
+          d.reason = in.complete ? "waypointing: path complete, returning to the goal"
+                                 : "waypointing: following the path";
+        }
+      } else if (had_path_) {
+        // Hold: the path stopped (progress fresh, no active segment) or the guidance is lost.
+        const bool stopped = in.progress_fresh && !in.path_active;
+        d.source = p_.hold_position ? wrench_t::SOURCE_STATION_KEEP : wrench_t::SOURCE_NONE;
+        d.reason = stopped
+                       ? (p_.hold_position
+                              ? "waypointing: path stopped (cancel, abort, pause): holding position"
+                              : "waypointing: path stopped: neutral (this vehicle cannot hold)")
+                       : (p_.hold_position
+                              ? "waypointing: guidance lost (progress or setpoint stale): holding"
+                              : "waypointing: guidance lost: neutral (this vehicle cannot hold)");
+      } else {
         d.source = wrench_t::SOURCE_NONE;
         d.reason = "waypointing: no path (neutral)";
-      } else if (in.complete && (in.distance_to_goal <= p_.station_radius ||
-                                 (last_source_ == wrench_t::SOURCE_STATION_KEEP &&
-                                  in.distance_to_goal <= p_.station_radius + p_.hysteresis))) {
-        d.source = wrench_t::SOURCE_STATION_KEEP;
-        d.reason = "waypointing: path complete, near the goal: station keeping";
-      } else {
-        d.source = wrench_t::SOURCE_VELOCITY_PID;
-        d.reason = in.complete ? "waypointing: path complete, returning to the goal"
-                               : "waypointing: following the path";
       }
       break;
+    }
     default:
       d.source = wrench_t::SOURCE_NONE;
       d.reason = "unknown mode (neutral)";
   }
-  d.changed = d.source != last_source_;
+  d.changed = d.source != last_source_ || d.reason != last_reason_;
   last_source_ = d.source;
+  last_reason_ = d.reason;
   return d;
 }
 

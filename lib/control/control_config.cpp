@@ -79,6 +79,7 @@ ArbiterParams load_arbiter_params(const config::Value& v) {
   p.default_mode = parse_mode(v, "default_mode");
   p.station_radius = v.number("station_radius", Range::positive());
   p.hysteresis = v.number("hysteresis", Range::at_least(0));
+  p.hold_position = v.boolean("hold_position");
   return p;
 }
 

@@ -20,6 +20,7 @@ const std::string kNeutral = "odometry stale: neutral";
 const std::string kNoTarget = "idle: no target";
 const std::string kKeeping = "station keeping";
 const std::string kStandby = "standing by (not the active source)";
+const std::string kHoldingHere = "holding position where the vehicle was (no target)";
 
 namespace {
 constexpr int kAxis[3] = {0, 1, 5};
@@ -169,7 +170,9 @@ void StationKeepNode::on_tick(TimeUs now) {
                      last_wrench_.tau[5]);
       set_health(heartbeat_t::STATE_DEGRADED, kHolding);
     } else {
-      publish_wrench(now, true, 0, 0, 0);
+      // Invalid: no wrench to give (nothing to hold on). The mixer counts it as input lost:
+      // neutral at once, and a disarm request after safety.disarm_after_s.
+      publish_wrench(now, false, 0, 0, 0);
       set_health(heartbeat_t::STATE_DEGRADED, kNeutral);
     }
     last_odom_utime_ = -1;
@@ -188,10 +191,23 @@ void StationKeepNode::on_tick(TimeUs now) {
   const IntegratorRule rule = integrator_rule(command_fresh_.fresh(now), command_gate_,
                                               command_source_, wrench_t::SOURCE_STATION_KEEP);
   if (rule == IntegratorRule::kReset) pid_.reset();
+  // In control without a target: hold where the vehicle is (captured on taking control, and
+  // again while nothing has been started).
+  const bool hold_here = active_ && !have_target;
+  if (!hold_here) {
+    hold_here_valid_ = false;
+  } else if (!hold_here_valid_ || rule == IntegratorRule::kReset) {
+    hold_n_ = odom_.position[0];
+    hold_e_ = odom_.position[1];
+    hold_psi_ = heading;
+    hold_here_valid_ = true;
+  }
   StationPidInput in;
-  in.target_n = target_.position[0];
-  in.target_e = target_.position[1];
-  in.target_heading = target_.heading_valid ? target_.heading : hold_heading_;
+  in.target_n = hold_here ? hold_n_ : target_.position[0];
+  in.target_e = hold_here ? hold_e_ : target_.position[1];
+  in.target_heading = hold_here               ? hold_psi_
+                      : target_.heading_valid ? target_.heading
+                                              : hold_heading_;
   in.n = odom_.position[0];
   in.e = odom_.position[1];
   in.heading = heading;
@@ -210,15 +226,16 @@ void StationKeepNode::on_tick(TimeUs now) {
         rule != IntegratorRule::kIntegrate ||
         (alloc_ok && (alloc_.axis_reduced[kAxis[k]] || alloc_.axis_unactuated[kAxis[k]]));
   }
-  terms_ = have_target ? pid_.step(in) : PidTerms{};
-  if (have_target && active_) terms_.out = blend_.apply(now, terms_.out);
+  const bool steer = have_target || hold_here;
+  terms_ = steer ? pid_.step(in) : PidTerms{};
+  if (steer && active_) terms_.out = blend_.apply(now, terms_.out);
   if (!active_ && velocity_fresh_.fresh(now) && velocity_wrench_.valid) {
     // Standing by: track the velocity PID's wrench, so a mixer that switches to us before our
     // next tick sees no step (bumpless hand-over); the terms still show our own law.
     publish_wrench(now, true, velocity_wrench_.tau[0], velocity_wrench_.tau[1],
                    velocity_wrench_.tau[5]);
   } else {
-    publish_wrench(now, have_target, terms_.out[0], terms_.out[1], terms_.out[2]);
+    publish_wrench(now, steer, terms_.out[0], terms_.out[1], terms_.out[2]);
   }
 
   pid_terms_t t{};
@@ -235,7 +252,10 @@ void StationKeepNode::on_tick(TimeUs now) {
     t.integrator_frozen[k] = terms_.frozen[k];
   }
   publish(channels::kPidStation, t);
-  set_health(heartbeat_t::STATE_OK, !have_target ? kNoTarget : active_ ? kKeeping : kStandby);
+  set_health(heartbeat_t::STATE_OK, hold_here      ? kHoldingHere
+                                    : !have_target ? kNoTarget
+                                    : active_      ? kKeeping
+                                                   : kStandby);
 }
 
 }  // namespace tiller::control

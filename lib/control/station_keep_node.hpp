@@ -8,8 +8,12 @@
 // allocated (reset to zero while disarmed or waiting for a start, frozen otherwise:
 // control/integrator_gate.hpp). The integrator restarts from zero on entry; its output is blended
 // from the velocity PID's last wrench over blend_s, so the hand-over has no thrust step. A target
-// without a heading holds the heading the vehicle has when the target first becomes active.
-// Odometry stale: neutral, or the last wrench for hold_s, per config. Bad input
+// without a heading holds the heading the vehicle has when the target first becomes active. In
+// control without a fresh active target (the arbiter's hold: a path cancelled, aborted or paused,
+// the guidance stale) it holds where the vehicle is: the position and heading when it took control,
+// re-captured while the mixer's gate says disarmed or waiting for a start (so a start holds where
+// the vehicle is then). Odometry stale: neutral (an invalid wrench: the mixer's input lost, then
+// its disarm after safety.disarm_after_s), or the last wrench for hold_s, per config. Bad input
 // (core/message_checks.hpp) is dropped and counted: odometry with non-finite values
 // (rejected.odometry.nan) or angles / covariance size out of contract (rejected.odometry.range);
 // an active target with NaN, a position beyond 1e6 m or a valid heading outside (-pi, pi]
@@ -47,6 +51,8 @@ class StationKeepNode : public Node {
 
   const PidTerms& terms() const { return terms_; }
   bool active() const { return active_; }
+  // Holding where the vehicle was, with no target (the arbiter's hold).
+  bool holding_here() const { return hold_here_valid_; }
 
  private:
   // A counter made on first use (a rejection), so good input leaves the heartbeat as it was.
@@ -65,6 +71,8 @@ class StationKeepNode : public Node {
   bool active_ = false;
   bool hold_heading_valid_ = false;
   double hold_heading_ = 0;
+  bool hold_here_valid_ = false;  // holding where the vehicle was (no target): that pose
+  double hold_n_ = 0, hold_e_ = 0, hold_psi_ = 0;
   TimeUs last_odom_utime_ = -1;
   wrench_t last_wrench_{};
   wrench_t velocity_wrench_{};

@@ -178,6 +178,7 @@ void VelocityPidNode::on_tick(TimeUs now) {
   ai.mode = mode_;
   ai.progress_fresh = progress_fresh_.fresh(now);
   ai.path_active = progress_.path_id >= 0 && progress_.segment >= 0;
+  ai.setpoint_fresh = setpoint_fresh_.fresh(now);
   ai.complete = progress_.complete;
   ai.distance_to_goal = progress_.distance_to_goal;
   decision_ = arbiter_.decide(ai);
@@ -246,7 +247,9 @@ void VelocityPidNode::on_tick(TimeUs now) {
                      last_wrench_.tau[5]);
       set_health(heartbeat_t::STATE_DEGRADED, kHolding);
     } else {
-      publish_wrench(now, true, 0, 0, 0);
+      // Invalid: no wrench to give (nothing to hold on). The mixer counts it as input lost:
+      // neutral at once, and a disarm request after safety.disarm_after_s.
+      publish_wrench(now, false, 0, 0, 0);
       set_health(heartbeat_t::STATE_DEGRADED, kNeutral);
     }
     last_odom_utime_ = -1;

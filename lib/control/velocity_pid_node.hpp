@@ -14,13 +14,15 @@
 // control/integrator_gate.hpp). A mode switch while it stays the source (manual
 // closed loop <-> waypointing, both VELOCITY_PID) is a hand-over too: integrators reset to
 // zero, blend from the last published wrench, dt = 0 on that tick. No fresh setpoint: wrench
-// invalid (the mixer treats it as absent). Odometry stale: neutral, or the last wrench for hold_s,
-// per config. Bad input (core/message_checks.hpp) is dropped and counted: odometry with non-finite
-// values (rejected.odometry.nan) or angles / covariance size out of contract
-// (rejected.odometry.range); a setpoint out of contract, e.g. a valid heading outside (-pi, pi]
-// (rejected.setpoint.invalid); an allocation status out of contract (rejected.allocation.invalid);
-// a manual command, mode or path progress out of contract (rejected.manual/mode/progress.invalid);
-// a station-keep wrench with NaN (rejected.wrench_station.nan); a thruster command out of contract
+// invalid (the mixer treats it as absent). Odometry stale: neutral (an invalid wrench: the mixer's
+// input lost, then its disarm after safety.disarm_after_s), or the last wrench for hold_s, per
+// config. The arbiter's hold (path stopped, guidance stale) hands over to station keeping. Bad
+// input (core/message_checks.hpp) is dropped and counted: odometry with non-finite values
+// (rejected.odometry.nan) or angles / covariance size out of contract (rejected.odometry.range); a
+// setpoint out of contract, e.g. a valid heading outside (-pi, pi] (rejected.setpoint.invalid); an
+// allocation status out of contract (rejected.allocation.invalid); a manual command, mode or path
+// progress out of contract (rejected.manual/mode/progress.invalid); a station-keep wrench with NaN
+// (rejected.wrench_station.nan); a thruster command out of contract
 // (rejected.thruster_command.invalid).
 #pragma once
 

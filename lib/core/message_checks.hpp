@@ -15,6 +15,7 @@
 //   }
 #pragma once
 
+#include <algorithm>
 #include <cmath>
 #include <cstddef>
 #include <cstdint>
@@ -257,11 +258,13 @@ inline Reason check(const joystick_state_t& m) {
   return nullptr;
 }
 
-// heartbeat_t: 0..64 counters, each >= 0.
+// heartbeat_t: 0..64 counters, each >= 0. Only the first n_counters values count: lcm-gen's
+// decoder leaves a reused message's arrays as they were when a packet has 0 counters.
 inline Reason check(const heartbeat_t& m) {
   if (m.n_counters < 0 || m.n_counters > 64) return "n_counters.range";
-  for (std::int64_t v : m.counter_values)
-    if (v < 0) return "counter.range";
+  const auto n = std::min(static_cast<std::size_t>(m.n_counters), m.counter_values.size());
+  for (std::size_t i = 0; i < n; ++i)
+    if (m.counter_values[i] < 0) return "counter.range";
   return nullptr;
 }
 

@@ -1,5 +1,6 @@
 #include "guidance/path_follower_node.hpp"
 
+#include <algorithm>
 #include <string_view>
 
 #include <tiller/path_progress_t.hpp>
@@ -18,6 +19,7 @@ const std::string kStale = "odometry stale: setpoint inactive";
 const std::string kWaiting = "path waiting for odometry";
 const std::string kComplete = "path complete";
 const std::string kFollowing = "following";
+const std::string kPaused = "paused: holding position (RESUME continues)";
 
 PathFollowerNode::PathFollowerNode(const FollowerNodeParams& p)
     : Node("path-follower", from_hz(p.rate_hz)),
@@ -27,6 +29,7 @@ PathFollowerNode::PathFollowerNode(const FollowerNodeParams& p)
   subscribe(channels::kPath, &PathFollowerNode::on_path);
   subscribe(channels::kOdometry, &PathFollowerNode::on_odometry);
   subscribe(channels::kMode, &PathFollowerNode::on_mode);
+  subscribe(channels::kMissionCommand, &PathFollowerNode::on_command);
   advertise<velocity_setpoint_t>(channels::kVelocitySetpoint);
   advertise<path_progress_t>(channels::kPathProgress);
   advertise<station_target_t>(channels::kStationTarget);
@@ -34,6 +37,7 @@ PathFollowerNode::PathFollowerNode(const FollowerNodeParams& p)
   invalid_path_ = &counter("rejected.path.invalid");
   paths_started_ = &counter("paths.started");
   pending_points_.reserve(64);
+  dropped_ids_.fill(-2);  // no path id is -2 (ids are >= 0, -1 means none)
   set_health(heartbeat_t::STATE_OK, kIdle);
 }
 
@@ -44,14 +48,20 @@ void PathFollowerNode::on_path(const path_t& m, TimeUs) {
     reject(*invalid_path_);
     return;
   }
-  if (m.n_waypoints == 0) {  // cancel
-    follower_.clear();
-    pending_ = false;
+  if (m.n_waypoints == 0) {  // cancel the path being followed
+    if (follower_.has_path() || pending_) drop_path();
     path_id_ = m.path_id;
     return;
   }
   if (m.path_id == path_id_ && (follower_.has_path() || pending_)) return;  // repeat
+  if (std::find(dropped_ids_.begin(), dropped_ids_.end(), m.path_id) != dropped_ids_.end()) {
+    // A repeat of a cancelled or aborted path (tiller-mission repeats its path): stays dropped.
+    if (!dropped_repeats_) dropped_repeats_ = &counter("paths.dropped_repeats");
+    ++*dropped_repeats_;
+    return;
+  }
   path_id_ = m.path_id;
+  paused_ = false;
   pending_points_.clear();
   for (const auto& w : m.waypoints) {
     Waypoint p;
@@ -62,6 +72,41 @@ void PathFollowerNode::on_path(const path_t& m, TimeUs) {
   }
   pending_ = true;
   if (odom_fresh_.ever()) start_pending_path();
+}
+
+void PathFollowerNode::drop_path() {
+  dropped_ids_[next_dropped_slot_] = path_id_;
+  next_dropped_slot_ = (next_dropped_slot_ + 1) % dropped_ids_.size();
+  follower_.clear();
+  pending_ = false;
+  paused_ = false;
+}
+
+void PathFollowerNode::on_command(const mission_command_t& m, TimeUs) {
+  if (checks::check(m) != nullptr) {  // unknown command, id < 1
+    if (!bad_command_) bad_command_ = &counter("rejected.mission_command.invalid");
+    reject(*bad_command_);
+    return;
+  }
+  for (const std::int64_t id : seen_commands_)
+    if (id == m.command_id) return;  // an event already acted on
+  seen_commands_[next_command_slot_] = m.command_id;
+  next_command_slot_ = (next_command_slot_ + 1) % seen_commands_.size();
+  switch (m.command) {
+    case mission_command_t::PAUSE:
+      if (follower_.has_path()) paused_ = true;
+      break;
+    case mission_command_t::RESUME:
+      if (paused_) last_update_odom_time_ = -1;  // no integral step over the pause
+      paused_ = false;
+      break;
+    case mission_command_t::ABORT:
+    case mission_command_t::RELEASE:
+      if (follower_.has_path() || pending_) drop_path();
+      break;
+    default:  // START: the mixer's gate acts on it
+      break;
+  }
 }
 
 void PathFollowerNode::start_pending_path() {
@@ -108,7 +153,7 @@ void PathFollowerNode::on_tick(TimeUs now) {
     seen_stale_ = odom_fresh_.stale_events();
   }
   out_ = FollowerOutput{};
-  if (fresh && follower_.has_path()) {
+  if (fresh && follower_.has_path() && !paused_) {
     const double dt = last_update_odom_time_ < 0
                           ? 0.0
                           : std::max(0.0, to_seconds(odom_time_ - last_update_odom_time_));
@@ -155,7 +200,7 @@ void PathFollowerNode::on_tick(TimeUs now) {
   } else if (!follower_.has_path()) {
     set_health(heartbeat_t::STATE_OK, pending_ ? kWaiting : kIdle);
   } else {
-    set_health(heartbeat_t::STATE_OK, out_.complete ? kComplete : kFollowing);
+    set_health(heartbeat_t::STATE_OK, paused_ ? kPaused : out_.complete ? kComplete : kFollowing);
   }
 }
 

@@ -1,7 +1,14 @@
 // tiller-path-follower's logic: the seed-004 command-velocity generator as a node.
 //
 // Subscribes TILLER_PATH (path_t: a new path_id restarts the follower, 0 points cancels),
-// TILLER_ODOMETRY (pose NED, heading) and TILLER_MODE (is_translation). At rate_hz it publishes
+// TILLER_ODOMETRY (pose NED, heading), TILLER_MODE (is_translation) and TILLER_MISSION_COMMAND
+// (the operator's PAUSE, RESUME, ABORT, RELEASE; a repeated command_id is ignored):
+//   PAUSE    stop following, keep the path (progress: its path_id, segment -1; setpoint inactive):
+//            the arbiter holds position (station keeping where the vehicle is);
+//   RESUME   follow the paused path again, from where the vehicle is;
+//   ABORT, RELEASE, and a cancel (0 points)  drop the path; repeats of the dropped path_id
+//            (tiller-mission sends its path every second) are ignored, a new path_id starts.
+// At rate_hz it publishes
 //   TILLER_VELOCITY_SETPOINT  velocity [north east 0] m/s (FRAME_NED) and target heading rad;
 //                             inactive when there is no path or the odometry is stale;
 //   TILLER_PATH_PROGRESS      segment, cross-track / along-track m, distance to goal m, complete;
@@ -13,7 +20,10 @@
 // mode is dropped and counted (rejected.mode.invalid).
 #pragma once
 
+#include <array>
+
 #include <tiller/controller_mode_t.hpp>
+#include <tiller/mission_command_t.hpp>
 #include <tiller/odometry_t.hpp>
 #include <tiller/path_t.hpp>
 
@@ -30,13 +40,16 @@ class PathFollowerNode : public Node {
   void on_path(const path_t& m, TimeUs now);
   void on_odometry(const odometry_t& m, TimeUs now);
   void on_mode(const controller_mode_t& m, TimeUs now);
+  void on_command(const mission_command_t& m, TimeUs now);
   void on_tick(TimeUs now) override;
 
   const PathFollower& follower() const { return follower_; }
   const FollowerOutput& last_output() const { return out_; }
+  bool paused() const { return paused_; }
 
  private:
   void start_pending_path();
+  void drop_path();
 
   FollowerNodeParams p_;
   PathFollower follower_;
@@ -49,11 +62,18 @@ class PathFollowerNode : public Node {
   TimeUs last_update_odom_time_ = -1;
   bool is_translation_ = false;
   std::int64_t path_id_ = -1;
+  std::array<std::int64_t, 8> dropped_ids_;  // the last cancelled or aborted path ids
+  std::size_t next_dropped_slot_ = 0;
+  bool paused_ = false;
+  std::array<std::int64_t, 8> seen_commands_{};  // the last command ids acted on
+  std::size_t next_command_slot_ = 0;
   bool pending_ = false;
   std::vector<Waypoint> pending_points_;
   std::int64_t* nan_odometry_;
-  std::int64_t* range_odometry_ = nullptr;  // made on first use
-  std::int64_t* bad_mode_ = nullptr;        // made on first use
+  std::int64_t* range_odometry_ = nullptr;   // made on first use
+  std::int64_t* bad_mode_ = nullptr;         // made on first use
+  std::int64_t* bad_command_ = nullptr;      // made on first use
+  std::int64_t* dropped_repeats_ = nullptr;  // made on first use
   std::int64_t* invalid_path_;
   std::int64_t* paths_started_;
 };

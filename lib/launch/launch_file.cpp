@@ -42,6 +42,17 @@ std::vector<std::string> strings(const config::Value& v) {
   return out;
 }
 
+// liveness_s: 0 (not watched) or long enough for 1 Hz heartbeats.
+double liveness_of(const config::Value& v, double fallback) {
+  const double s = v.number_or("liveness_s", fallback, {0.0, 3600.0});
+  if (s != 0.0 && s < 1.5)
+    v.at("liveness_s")
+        .fail(
+            "0 (not watched) or a number of seconds from 1.5 to 3600 "
+            "(heartbeats come once a second)");
+  return s;
+}
+
 // realtime: {priority, lock_memory, required} -> the spec, and its flags after the args.
 void load_realtime(const config::Value& p, const config::Value& rt, ProcessSpec& s) {
   if (!rt.is_map()) rt.fail("a map (priority 1..99, lock_memory, required)");
@@ -55,7 +66,7 @@ void load_realtime(const config::Value& p, const config::Value& rt, ProcessSpec&
   for (auto& a : realtime_args(s.realtime)) s.args.push_back(std::move(a));
 }
 
-ProcessSpec load_process(const config::Value& p) {
+ProcessSpec load_process(const config::Value& p, double liveness_s) {
   if (!p.is_map()) p.fail("a map with at least name and command");
   ProcessSpec s;
   s.line = p.line();
@@ -82,6 +93,10 @@ ProcessSpec load_process(const config::Value& p) {
   s.stable_after_s = p.number_or("stable_after_s", 30.0, {0.0, 86400.0});
   s.critical = p.boolean_or("critical", false);
   s.autostart = p.boolean_or("autostart", true);
+  s.liveness_s = liveness_of(p, liveness_s);
+  s.heartbeat = p.string_or("heartbeat", "");
+  if (p.has("heartbeat") && !valid_name(s.heartbeat))
+    p.at("heartbeat").fail("a node name of letters, digits, '-' and '_'");
   if (auto rt = p.find("realtime")) load_realtime(p, *rt, s);
   return s;
 }
@@ -136,12 +151,14 @@ LaunchFile load_launch(const config::Value& root, const std::string& file_dir) {
     root.at("require_signed").fail("key_file: FILE as well (require_signed needs a key)");
   if (lf.create_key && lf.key_file.empty()) root.at("create_key").fail("key_file: FILE as well");
 
+  lf.liveness_s = liveness_of(root, 3.0);
+
   const config::Value procs = root.at("processes");
   if (!procs.is_sequence() || procs.size() == 0) procs.fail("a non-empty sequence of processes");
   std::vector<ProcessSpec> in_file;
   std::map<std::string, std::size_t> index;
   for (std::size_t i = 0; i < procs.size(); ++i) {
-    in_file.push_back(load_process(procs[i]));
+    in_file.push_back(load_process(procs[i], lf.liveness_s));
     if (!index.emplace(in_file.back().name, i).second) {
       procs[i].at("name").fail("a name not used by another process");
     }

@@ -16,6 +16,7 @@
 //   clock_offset_s: 0.25        # bound on clock offset between computers allowed on a
 //                               # message's utime (TILLER_CLOCK_OFFSET_S; docs/safety.md)
 //   create_key: false           # true (simulator files only): make key_file if it is missing
+//   liveness_s: 3               # every process's default liveness_s (docs/safety.md)
 //   processes:
 //     - name: sim
 //       command: tiller-sim      # looked up next to tiller-launch first, then on PATH
@@ -31,6 +32,9 @@
 //       critical: false          # true: giving up on it stops the whole run (exit 3)
 //       autostart: true          # false: started only when its group or name is asked for
 //                                # (--group / --only), e.g. a mission that arms a real boat
+//       liveness_s: 3            # heartbeat silent this long: treated as failed (0: not
+//                                # watched; default: the file's liveness_s, itself 3)
+//       heartbeat: sim           # the node whose TILLER_HEARTBEAT_<NODE> to watch (default: name)
 //       realtime: {priority: 80, lock_memory: true, required: false}
 //                                # tiller-* programs only: passed on as --realtime-priority 80
 //                                # --lock-memory [--realtime-required]; the program applies it
@@ -77,8 +81,14 @@ struct ProcessSpec {
   double stable_after_s = 30.0;  // running this long resets the back-off and the restart count
   bool critical = false;
   bool autostart = true;  // false: only with --group G / --only NAME
+  // Liveness (docs/safety.md, "Stalls and liveness"): once the process has published a
+  // heartbeat, one silent for liveness_s is treated as failed (stopped, then `restart`
+  // applies). 0: not watched. `heartbeat` names the node (heartbeat_t.process) to watch.
+  double liveness_s = 3.0;
+  std::string heartbeat;  // empty: the process's name
   RealtimeSpec realtime;  // its flags are already at the end of args
   int line = 0;           // line in the launch file (for messages)
+  const std::string& heartbeat_node() const { return heartbeat.empty() ? name : heartbeat; }
 };
 
 struct LoggerSpec {
@@ -110,6 +120,7 @@ struct LaunchFile {
   double clock_offset_s = 0.25;  // core/time.hpp kDefaultClockOffsetUs
   bool create_key = false;
   int key_file_line = 0;
+  double liveness_s = 3.0;             // every process's default liveness_s
   std::vector<ProcessSpec> processes;  // in start order (dependencies first, then file order)
 };
 

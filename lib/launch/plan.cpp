@@ -4,6 +4,8 @@
 #include <ostream>
 #include <stdexcept>
 
+#include "runtime/heartbeat_name.hpp"
+
 namespace tiller::launch {
 
 namespace {
@@ -35,6 +37,7 @@ ProcessSpec logger_process(const LoggerSpec& l, const std::string& lcm_url,
   lg.args.push_back("--lcm-url=" + lcm_url);
   lg.args.push_back(log_file);
   lg.restart = Restart::kOnFailure;
+  lg.liveness_s = 0;  // lcm-logger publishes no heartbeat
   return lg;
 }
 }  // namespace
@@ -132,7 +135,10 @@ void print_check(std::ostream& out, const Plan& plan, const PosixHost& host) {
     const auto argv = host.argv_of(p);
     out << "  [" << p.group << "] " << p.name << ": " << host.resolve(argv[0]);
     for (std::size_t k = 1; k < argv.size(); ++k) out << " " << argv[k];
-    out << "  (restart " << to_string(p.restart) << ")\n";
+    out << "  (restart " << to_string(p.restart);
+    if (p.liveness_s > 0)
+      out << ", liveness " << p.liveness_s << " s on " << heartbeat_channel_of(p.heartbeat_node());
+    out << ")\n";
   }
   for (const auto& h : plan.held_back) out << "  not started: " << h << "\n";
 }

@@ -14,9 +14,12 @@
 #include <filesystem>
 #include <fstream>
 #include <iostream>
+#include <memory>
 #include <stdexcept>
 
+#include "launch/monitor.hpp"
 #include "runtime/live.hpp"
+#include "runtime/live_link.hpp"
 
 namespace tiller::launch {
 
@@ -28,6 +31,24 @@ std::string now_stamp() {
   std::strftime(buf, sizeof buf, "%Y-%m-%d-%H%M%S", &tm);
   return buf;
 }
+
+namespace {
+// "liveness: heartbeats watched from each process's first one: esc, mixer (5 s) (3 s silent: ...)".
+std::string liveness_line(const LaunchFile& lf, const std::vector<ProcessSpec>& procs) {
+  std::string names;
+  for (const auto& p : procs) {
+    if (p.liveness_s <= 0) continue;
+    char own[48] = "";
+    if (p.liveness_s != lf.liveness_s) std::snprintf(own, sizeof own, " (%g s)", p.liveness_s);
+    names += (names.empty() ? "" : ", ") + p.name + own;
+  }
+  if (names.empty()) return "liveness: no process watched (liveness_s: 0)";
+  char dflt[32];
+  std::snprintf(dflt, sizeof dflt, "%g s", lf.liveness_s);
+  return "liveness: heartbeats watched from each process's first one: " + names + " (" + dflt +
+         " silent: stopped, then its restart policy)";
+}
+}  // namespace
 
 int run_plan(const Plan& plan, PosixHost& host, const RunOptions& o) {
   const LaunchFile& lf = plan.lf;
@@ -59,6 +80,16 @@ int run_plan(const Plan& plan, PosixHost& host, const RunOptions& o) {
   host.print("launch", lf.name + ": " + std::to_string(plan.procs.size()) + " processes, lcm " +
                            lf.lcm_url + (plan.signing.empty() ? "" : ", " + plan.signing));
   for (const auto& h : plan.held_back) host.print("launch", "not started: " + h);
+  // Liveness (docs/safety.md, "Stalls and liveness"): the launcher's node hears heartbeats.
+  LaunchMonitor monitor(sup);
+  std::unique_ptr<LiveLink> link;
+  try {
+    link = std::make_unique<LiveLink>(lf.lcm_url, o.policy, monitor);
+    host.print("launch", liveness_line(lf, plan.procs));
+  } catch (const std::exception& e) {
+    host.print("launch",
+               std::string("warning: ") + e.what() + ": no heartbeat watchdog in this run");
+  }
   if (plan.log)
     host.print("launch", "log: " + plan.log_file + log_suffix(lf.logger) + " (replay manifest " +
                              log_stem(plan.log_file) + ".replay.yaml)");
@@ -87,12 +118,17 @@ int run_plan(const Plan& plan, PosixHost& host, const RunOptions& o) {
     if (sup.finished() && (fds.empty() || now >= drain_until)) break;
     TimeUs wake =
         std::min({sup.next_deadline(), next_status, next_file, drain_until, now + kUsPerSecond});
+    if (link) wake = std::min(wake, link->next_tick());
     const int timeout_ms = static_cast<int>(std::clamp<TimeUs>((wake - now + 999) / 1000, 0, 1000));
     std::vector<pollfd> pfds{{sfd, POLLIN, 0}};
     for (int fd : fds) pfds.push_back({fd, POLLIN, 0});
+    const std::size_t first_out = 1, lcm_at = pfds.size();
+    if (link) pfds.push_back({link->fd(), POLLIN, 0});
     ::poll(pfds.data(), pfds.size(), timeout_ms);
+    // Heartbeats first: a late loop must not take a process for silent whose heartbeat waits.
+    if (link && (pfds[lcm_at].revents & POLLIN)) link->handle();
     now = wall_time_us();
-    for (std::size_t k = 1; k < pfds.size(); ++k) {
+    for (std::size_t k = first_out; k < lcm_at; ++k) {
       if (pfds[k].revents) host.on_readable(pfds[k].fd);
     }
     signalfd_siginfo si{};
@@ -120,6 +156,8 @@ int run_plan(const Plan& plan, PosixHost& host, const RunOptions& o) {
       }
     }
     sup.poll(now);
+    monitor.after_poll(now);
+    if (link) link->tick(now);
   }
   const TimeUs end = wall_time_us();
   std::cout << sup.status_table(end);

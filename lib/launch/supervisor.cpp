@@ -8,12 +8,23 @@
 
 namespace tiller::launch {
 
+namespace {
+std::string seconds(double s) {
+  char b[32];
+  std::snprintf(b, sizeof b, "%.1f s", s);
+  return b;
+}
+}  // namespace
+
 std::string ExitInfo::describe() const {
+  std::string how;
   if (signal != 0) {
     const char* n = sigabbrev_np(signal);
-    return std::string("killed by SIG") + (n ? n : std::to_string(signal).c_str());
+    how = std::string("killed by SIG") + (n ? n : std::to_string(signal).c_str());
+  } else {
+    how = "exit " + std::to_string(code);
   }
-  return "exit " + std::to_string(code);
+  return silent_s > 0 ? "heartbeat silent " + seconds(silent_s) + ", then " + how : how;
 }
 
 const char* to_string(State s) {
@@ -32,6 +43,8 @@ const char* to_string(State s) {
       return "gave-up";
     case State::kNotStarted:
       return "not-started";
+    case State::kSilent:
+      return "silent";
   }
   return "?";
 }
@@ -62,6 +75,9 @@ void Supervisor::spawn(std::size_t i, TimeUs now) {
   std::string error;
   const int pid = host_.spawn(p.spec, error);
   p.started_at = now;
+  p.heard = false;
+  p.silent_s = 0;
+  p.killed = false;
   if (pid <= 0) {
     say(p.spec.name + ": cannot start: " + error);
     p.pid = -1;
@@ -91,8 +107,61 @@ void Supervisor::poll(TimeUs now) {
         spawn(i, now);
       }
     }
+    if (!stopping_) check_liveness(now);
+  }
+  for (auto& p : procs_) {
+    if (p.state == State::kSilent && now >= p.kill_at) {
+      say(p.spec.name + ": still running after the grace period, SIGKILL");
+      host_.signal(p.pid, SIGKILL);
+      p.killed = true;
+      p.kill_at = now + grace_us_;
+    }
   }
   if (stopping_) advance_stop(now);
+}
+
+bool Supervisor::on_heartbeat(std::string_view node, TimeUs now) {
+  for (auto& p : procs_) {
+    if (p.spec.liveness_s <= 0 || p.spec.heartbeat_node() != node) continue;
+    if (p.state == State::kRunning) {
+      p.heard = true;
+      p.last_heartbeat = now;
+    }
+    return true;  // a process being stopped or restarted may still say one
+  }
+  return false;
+}
+
+void Supervisor::on_bus(TimeUs now) {
+  if (last_bus_ < 0 || now - last_bus_ > kBusEchoUs) bus_back_ = now;
+  last_bus_ = now;
+}
+
+void Supervisor::check_liveness(TimeUs now) {
+  last_check_ = now;
+  // Silence counts only while the bus is known to work.
+  const TimeUs heard_until = last_bus_ < 0 ? now : std::min(now, last_bus_ + kBusEchoUs);
+  for (auto& p : procs_) {
+    if (p.state != State::kRunning || !p.heard || p.spec.liveness_s <= 0) continue;
+    const TimeUs silent = heard_until - std::max(p.last_heartbeat, bus_back_);
+    if (silent < from_seconds(p.spec.liveness_s)) continue;
+    p.silent_s = to_seconds(silent);
+    ++p.silent_stops;
+    ++silent_stops_;
+    char limit[32];
+    std::snprintf(limit, sizeof limit, "%g", p.spec.liveness_s);
+    last_silent_ = p.spec.name + ": no heartbeat for " + seconds(p.silent_s) + " (liveness_s " +
+                   limit +
+                   "): treated as failed, stopping it (SIGTERM and SIGCONT, SIGKILL after " +
+                   seconds(to_seconds(grace_us_)) + ")";
+    say(last_silent_);
+    // SIGTERM first: a stopped process has it pending when SIGCONT wakes it, so it shuts down
+    // (ESCs to neutral) before it acts on anything that queued up meanwhile.
+    host_.signal(p.pid, SIGTERM);
+    host_.signal(p.pid, SIGCONT);
+    p.state = State::kSilent;
+    p.kill_at = now + grace_us_;
+  }
 }
 
 void Supervisor::on_exit(int pid, ExitInfo e, TimeUs now) {
@@ -108,6 +177,8 @@ void Supervisor::handle_exit(std::size_t i, ExitInfo e, TimeUs now) {
   auto& p = procs_[i];
   p.pid = -1;
   p.has_exited = true;
+  e.silent_s = p.silent_s;  // stopped for a silent heartbeat: a failure, whatever its status
+  p.silent_s = 0;
   p.last_exit = e;
   if (stopping_) {
     p.state = State::kExited;
@@ -158,7 +229,8 @@ void Supervisor::check_all_done(TimeUs now) {
   if (stopping_ || next_start_ < procs_.size()) return;
   bool any_failed = false;
   for (const auto& p : procs_) {
-    if (p.state == State::kRunning || p.state == State::kBackoff || p.state == State::kPending)
+    if (p.state == State::kRunning || p.state == State::kBackoff || p.state == State::kPending ||
+        p.state == State::kSilent)
       return;
     if (p.state == State::kGaveUp || (p.has_exited && p.last_exit.failed())) any_failed = true;
   }
@@ -182,6 +254,7 @@ void Supervisor::advance_stop(TimeUs now) {
   while (stop_index_ >= 0) {
     auto& p = procs_[static_cast<std::size_t>(stop_index_)];
     if (p.state == State::kBackoff) p.state = State::kExited;
+    if (p.state == State::kSilent) p.state = State::kStopping;  // already signalled
     if (p.state == State::kRunning) {
       host_.signal(p.pid, SIGTERM);
       p.state = State::kStopping;
@@ -209,11 +282,15 @@ TimeUs Supervisor::next_deadline() const {
     if (next_start_ < procs_.size()) t = std::min(t, start_due_);
     for (const auto& p : procs_) {
       if (p.state == State::kBackoff) t = std::min(t, p.restart_at);
+      if (p.state == State::kRunning && p.heard && p.spec.liveness_s > 0)
+        t = std::min(
+            t, std::max(std::max(p.last_heartbeat, bus_back_) + from_seconds(p.spec.liveness_s),
+                        last_check_ + 100'000));
     }
-  } else {
-    for (const auto& p : procs_) {
-      if (p.state == State::kStopping) t = std::min(t, p.kill_at);
-    }
+  }
+  for (const auto& p : procs_) {
+    if (p.state == State::kSilent || (stopping_ && p.state == State::kStopping))
+      t = std::min(t, p.kill_at);
   }
   return t;
 }
@@ -227,14 +304,20 @@ std::string Supervisor::status_table(TimeUs now) const {
     return s;
   };
   os << pad("name", w) << "  " << pad("group", 10) << "  " << pad("state", 11) << "  "
-     << pad("pid", 7) << "  " << pad("up_s", 7) << "  restarts  last exit\n";
+     << pad("pid", 7) << "  " << pad("up_s", 7) << "  " << pad("hb_s", 6)
+     << "  restarts  last exit\n";
   for (const auto& p : procs_) {
-    const bool up = p.state == State::kRunning || p.state == State::kStopping;
+    const bool up =
+        p.state == State::kRunning || p.state == State::kStopping || p.state == State::kSilent;
     char upbuf[32] = "-";
     if (up) std::snprintf(upbuf, sizeof upbuf, "%.1f", to_seconds(now - p.started_at));
+    char hbbuf[32] = "-";  // seconds since its last heartbeat (watched processes)
+    if (up && p.heard)
+      std::snprintf(hbbuf, sizeof hbbuf, "%.1f", to_seconds(now - p.last_heartbeat));
     os << pad(p.spec.name, w) << "  " << pad(p.spec.group, 10) << "  "
        << pad(to_string(p.state), 11) << "  " << pad(p.pid > 0 ? std::to_string(p.pid) : "-", 7)
-       << "  " << pad(upbuf, 7) << "  " << pad(std::to_string(p.restarts), 8) << "  "
+       << "  " << pad(upbuf, 7) << "  " << pad(hbbuf, 6) << "  "
+       << pad(std::to_string(p.restarts), 8) << "  "
        << (p.has_exited ? p.last_exit.describe() : "-") << "\n";
   }
   return os.str();

@@ -1,7 +1,8 @@
 // Nothing on the allocation call path touches the heap: every preset x every strategy (direction
 // preserving, prioritised, clip; the tables' own normalisation), unsaturated and saturated
 // wrenches, manual sticks, invalid input (neutral), counted by replacing the global operator
-// new in this binary. Allocators and inputs are made before counting starts.
+// new in this binary (the presets and the one-group 8-thruster ROV, test::rov8). Allocators and
+// inputs are made before counting starts.
 #include <gtest/gtest.h>
 
 #include <limits>
@@ -32,9 +33,13 @@ TEST(AllocationHeap, NoAllocationOnAnyPathOfAnyPreset) {
   std::vector<Case> cases;
   std::mt19937 rng(21);
   std::uniform_real_distribution<double> u(-1, 1);
-  for (const auto& name : test::preset_names()) {
+  std::vector<Vehicle> vehicles;
+  for (const auto& name : test::preset_names()) vehicles.push_back(test::preset(name));
+  vehicles.push_back(test::rov8(true));  // one group, two spare directions
+  for (const Vehicle& base : vehicles) {
+    const std::string& name = base.name;
     for (Strategy s : {Strategy::kDirectionPreserving, Strategy::kPrioritised, Strategy::kClip}) {
-      Vehicle v = test::with_strategy(test::preset(name), s);
+      Vehicle v = test::with_strategy(base, s);
       if (v.allocation.has_matrix() && s == Strategy::kPrioritised) continue;
       Case c;
       c.name = name + " " + strategy_name(s);
@@ -87,7 +92,7 @@ TEST(AllocationHeap, NoAllocationOnAnyPathOfAnyPreset) {
     EXPECT_EQ(news[i], 0) << cases[i].name;
     EXPECT_GT(saturated[i], 20) << cases[i].name << ": saturation was exercised";
   }
-  EXPECT_EQ(cases.size(), 3 * test::preset_names().size() - 2);  // tables: no prioritised
+  EXPECT_EQ(cases.size(), 3 * vehicles.size() - 2);  // tables: no prioritised
 }
 
 }  // namespace

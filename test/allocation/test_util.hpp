@@ -4,6 +4,7 @@
 #include <algorithm>
 #include <array>
 #include <filesystem>
+#include <fstream>
 #include <limits>
 #include <random>
 #include <string>
@@ -33,6 +34,64 @@ inline const std::vector<std::string>& preset_names() {
 
 inline Vehicle preset(const std::string& name) {
   return load_vehicle_file(std::string(TILLER_SOURCE_DIR) + "/config/vehicles/" + name + ".yaml");
+}
+
+// Every preset the programs use: config/vehicles/*.yaml and the vehicle each config/mixer/*.yaml
+// names (its `vehicle:` line, relative to the mixer file), each file once, sorted.
+inline std::vector<std::string> preset_files() {
+  namespace fs = std::filesystem;
+  const fs::path src(TILLER_SOURCE_DIR);
+  std::vector<std::string> out;
+  for (const auto& e : fs::directory_iterator(src / "config/vehicles"))
+    if (e.path().extension() == ".yaml") out.push_back(fs::canonical(e.path()).string());
+  for (const auto& e : fs::directory_iterator(src / "config/mixer")) {
+    if (e.path().extension() != ".yaml") continue;
+    std::ifstream in(e.path());
+    std::string line;
+    while (std::getline(in, line)) {
+      if (line.rfind("vehicle:", 0) != 0) continue;
+      std::string v = line.substr(8);
+      v = v.substr(0, v.find('#'));
+      v.erase(0, v.find_first_not_of(" \t\""));
+      v.erase(v.find_last_not_of(" \t\"") + 1);
+      const fs::path p = fs::path(v).is_absolute() ? fs::path(v) : e.path().parent_path() / v;
+      out.push_back(fs::canonical(p).string());
+    }
+  }
+  std::sort(out.begin(), out.end());
+  out.erase(std::unique(out.begin(), out.end()), out.end());
+  return out;
+}
+
+// A fully actuated 8-thruster ROV (BlueROV2 Heavy-like): seed 001's four vectored horizontal
+// thrusters (45 degrees, 0.085 m below the CG) and four vertical ones at (+-0.12, +-0.22, 0) m,
+// V0 and V3 pushing up, V1 and V2 mounted the other way up (pushing down), all with T200 limits
+// (36.38 N forward, 28.43 N reverse): heave then uses forward thrust on two and reverse on the
+// other two, so the vertical thrusters' spare direction is not symmetric. `group`: one name for all
+// eight (one group owning all six axes, two spare directions) or "horizontal" / "vertical" as seed
+// 001.
+inline Vehicle rov8(bool one_group) {
+  Vehicle v = preset("seed001_rov6");
+  v.thrusters.erase(v.thrusters.begin() + 3);  // B
+  v.thrusters.erase(v.thrusters.begin());      // F
+  const double xs[4] = {0.12, 0.12, -0.12, -0.12}, ys[4] = {-0.22, 0.22, -0.22, 0.22};
+  for (int k = 0; k < 4; ++k) {
+    Thruster t = v.thrusters[0];
+    // Not "V" + std::to_string(k): GCC 12 at -O3 inlines that operator+ and raises a false
+    // -Werror=restrict inside std::string (GCC bug 105329 / 105651).
+    t.name = std::to_string(k);
+    t.name.insert(0, 1, 'V');
+    t.position = {xs[k], ys[k], 0.0};
+    t.direction = {0, 0, -1};
+    if (k == 1 || k == 2) t.direction = {0, 0, 1};  // mounted the other way up
+    t.group = "vertical";
+    v.thrusters.push_back(t);
+  }
+  if (one_group)
+    for (Thruster& t : v.thrusters) t.group = "all";
+  v.name = one_group ? "rov8_one_group" : "rov8_two_groups";
+  v.source_file.clear();
+  return v;
 }
 
 // Random wrench on the actuated axes, each component scaled by that axis' largest value.

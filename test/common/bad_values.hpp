@@ -9,6 +9,7 @@
 // added later fails the test until it has bad values.
 #pragma once
 
+#include <cctype>
 #include <cmath>
 #include <cstdint>
 #include <functional>
@@ -21,6 +22,7 @@
 #include <tiller/arm_state_t.hpp>
 #include <tiller/controller_mode_t.hpp>
 #include <tiller/esc_output_t.hpp>
+#include <tiller/heartbeat_t.hpp>
 #include <tiller/joystick_state_t.hpp>
 #include <tiller/manual_demand_t.hpp>
 #include <tiller/manual_velocity_cmd_t.hpp>
@@ -190,6 +192,21 @@ inline arm_state_t good(const std::string&, TimeUs t, const InputContext&) {
   m.utime = t;
   m.armed = true;
   m.reason = "test";
+  return m;
+}
+
+// A heartbeat on TILLER_HEARTBEAT_<NODE> names that node (tiller-launch's monitor checks).
+template <>
+inline heartbeat_t good(const std::string& channel, TimeUs t, const InputContext&) {
+  heartbeat_t m{};
+  m.utime = t;
+  const std::string prefix = "TILLER_HEARTBEAT_";
+  for (std::size_t i = channel.rfind(prefix, 0) == 0 ? prefix.size() : 0; i < channel.size(); ++i)
+    m.process += channel[i] == '_' ? '-' : static_cast<char>(std::tolower(channel[i]));
+  m.status = "ok";
+  m.n_counters = 1;
+  m.counter_names = {"ticks.run"};
+  m.counter_values = {t / 1000};
   return m;
 }
 
@@ -457,6 +474,24 @@ inline std::int64_t missing_kinds_hash<arm_state_t>() {
 }
 
 template <>
+inline std::vector<BadValue<heartbeat_t>> bad_values() {
+  return {{"counter -1", kOR, [](heartbeat_t& m) { m.counter_values[0] = -1; }},
+          {"65 counters", kOR, [](heartbeat_t& m) {
+             m.n_counters = 65;
+             m.counter_names.assign(65, "x");
+             m.counter_values.assign(65, 0);
+           }}};
+}
+template <>
+inline std::vector<MissingKind> missing_kinds<heartbeat_t>() {
+  return {{kNF, "integers and text only"}};
+}
+template <>
+inline std::int64_t missing_kinds_hash<heartbeat_t>() {
+  return static_cast<std::int64_t>(0x17e12207035524d5ULL);
+}
+
+template <>
 inline std::vector<BadValue<mission_command_t>> bad_values() {
   return {{"command id 0", kOR, [](mission_command_t& m) { m.command_id = 0; }},
           {"unknown command 9", kOR, [](mission_command_t& m) { m.command = 9; }}};
@@ -608,7 +643,8 @@ inline std::vector<TypeInputs> all_type_inputs() {
           type_inputs<path_progress_t>(),
           type_inputs<thruster_command_t>(),
           type_inputs<esc_output_t>(),
-          type_inputs<joystick_state_t>()};
+          type_inputs<joystick_state_t>(),
+          type_inputs<heartbeat_t>()};
 }
 
 }  // namespace tiller::test

@@ -5,11 +5,19 @@
 // ACTIVE with the controller's source, the first output has zero integral (no step) and the
 // integral then grows by ki * e * dt per odometry step, hand-computed. WAIT_NEUTRAL resets,
 // INPUT_LOST and another source freeze, no mixer at all freezes.
+// And the hold (docs/safety.md): the arbiter hands a stopped path (cancel, abort, pause) or stale
+// guidance to station keeping once a path was followed (neutral on a vehicle that cannot hold);
+// the station keeper in control without a target holds where the vehicle was when it took
+// control, re-captured while the gate says disarmed.
 #include <gtest/gtest.h>
 
 #include <tiller/pid_terms_t.hpp>
+
+#include <cmath>
+#include <string>
 #include <tiller/thruster_command_t.hpp>
 
+#include "control/arbiter.hpp"
 #include "control/control_config.hpp"
 #include "control/station_keep_node.hpp"
 #include "control/velocity_pid_node.hpp"
@@ -177,6 +185,88 @@ TEST(IntegratorGate, StationKeeperDoesNotIntegrateWhileDisarmedAndStartsFromZero
   EXPECT_NEAR(terms.output[0], p.pid.x.kp * 1.0 + 0.3, 1e-9);
   ex.run_until(4'550'000);
   EXPECT_NEAR(terms.i[0], p.pid.x.ki * 1.0 * 0.55, 1e-9);  // 6 * 1 m * 0.55 s = 3.3 N
+}
+
+TEST(Hold, TheArbiterHoldsAStoppedPathOrLostGuidanceOnceAPathWasFollowed) {
+  for (const bool can_hold : {true, false}) {
+    SCOPED_TRACE(can_hold);
+    Arbiter a({controller_mode_t::WAYPOINTING, 2.0, 0.5, can_hold});
+    const std::int8_t hold = can_hold ? wrench_t::SOURCE_STATION_KEEP : wrench_t::SOURCE_NONE;
+    ArbiterInput in;
+    in.mode = controller_mode_t::WAYPOINTING;
+    in.progress_fresh = true;
+    EXPECT_EQ(a.decide(in).source, wrench_t::SOURCE_NONE);  // no path yet: neutral
+    in.path_active = true;
+    in.distance_to_goal = 30;
+    EXPECT_EQ(a.decide(in).source, wrench_t::SOURCE_VELOCITY_PID);
+    in.path_active = false;  // cancelled, aborted or paused
+    auto d = a.decide(in);
+    EXPECT_EQ(d.source, hold);
+    EXPECT_NE(std::string(d.reason).find(can_hold ? "holding position" : "cannot hold"),
+              std::string::npos)
+        << d.reason;
+    in.path_active = true;  // resumed
+    EXPECT_EQ(a.decide(in).source, wrench_t::SOURCE_VELOCITY_PID);
+    in.setpoint_fresh = false;  // the follower's setpoints stale
+    d = a.decide(in);
+    EXPECT_EQ(d.source, hold);
+    EXPECT_NE(std::string(d.reason).find("guidance lost"), std::string::npos) << d.reason;
+    in.setpoint_fresh = true;
+    in.progress_fresh = false;  // the follower gone
+    EXPECT_EQ(a.decide(in).source, hold);
+    in.mode = controller_mode_t::MANUAL_OPEN_LOOP;  // leaving waypointing forgets the path
+    EXPECT_EQ(a.decide(in).source, wrench_t::SOURCE_MANUAL_DEMAND);
+    in.mode = controller_mode_t::WAYPOINTING;
+    in.progress_fresh = true;
+    in.path_active = false;
+    EXPECT_EQ(a.decide(in).source, wrench_t::SOURCE_NONE);
+  }
+}
+
+// Station keeping in control with no target, the vehicle at (3, 4) m heading 0.5 rad.
+TEST(Hold, StationKeeperWithoutATargetHoldsWhereTheVehicleWas) {
+  auto p = load_station_keep_node_params(config::Value::load_file(kOtter));
+  p.pid.weathervane = false;
+  StationKeepNode node(p);
+  LockstepExecutor ex(0);
+  ex.add(node);
+  wrench_t ws{};
+  ex.observe([&](const std::string& ch, const std::uint8_t* d, int n, TimeUs) {
+    if (ch == channels::kWrenchStation) ws.decode(d, 0, n);
+  });
+  // Disarmed until 2 s, the vehicle drifting north from (3, 4) at 0.5 m/s until 1.5 s, then at
+  // (4, 4); ACTIVE from 2 s, still at (4, 4) until 3 s, then at (5, 4): 1 m north of the hold.
+  for (TimeUs t = 0; t < 4'000'000; t += kStep) {
+    arbitration_t arb{};
+    arb.utime = t;
+    arb.mode = controller_mode_t::WAYPOINTING;
+    arb.active_source = wrench_t::SOURCE_STATION_KEEP;
+    arb.reason = "test";
+    ex.inject(channels::kArbitration, arb, t);
+    odometry_t o{};
+    o.utime = t;
+    o.position[0] = t < 1'500'000 ? 3.0 + 0.5 * to_seconds(t) : t < 3'000'000 ? 4.0 : 5.0;
+    o.position[1] = 4.0;
+    o.orientation[2] = 0.5;
+    ex.inject(channels::kOdometry, o, t);
+  }
+  mixer_says(ex, thruster_command_t::GATE_DISARMED, wrench_t::SOURCE_NONE, 0, 2'000'000);
+  mixer_says(ex, thruster_command_t::GATE_ACTIVE, wrench_t::SOURCE_STATION_KEEP, 2'000'000,
+             4'000'000);
+  ex.run_until(2'950'000);
+  ASSERT_TRUE(node.holding_here());
+  EXPECT_TRUE(ws.valid);  // a hold, not an idle keeper
+  // Re-captured while disarmed: held at (4, 4), where the vehicle was at the start (not (3, 4),
+  // where it was when station keeping took control); still there.
+  EXPECT_NEAR(node.terms().measured[0], 0.0, 1e-9);
+  EXPECT_NEAR(node.terms().measured[1], 0.0, 1e-9);
+  EXPECT_NEAR(node.terms().setpoint[2], 0.5, 1e-12);  // and its heading then
+  ex.run_until(3'500'000);
+  // 1 m north of the hold point, heading 0.5: body position (cos 0.5, -sin 0.5) m from it, so a
+  // P force of kp back along it (no D: the odometry's velocity is 0).
+  EXPECT_NEAR(node.terms().measured[0], std::cos(0.5), 1e-9);
+  EXPECT_NEAR(node.terms().measured[1], -std::sin(0.5), 1e-9);
+  EXPECT_LT(ws.tau[0], -0.8 * p.pid.x.kp * std::cos(0.5));
 }
 
 }  // namespace

@@ -329,14 +329,14 @@ TEST(Arbiter, TheSeedsChoosePidRules) {
   EXPECT_EQ(a.decide(in).source, wrench_t::SOURCE_VELOCITY_PID);
   in.distance_to_goal = 2.4;  // coming back in: needs 2.0 again
   EXPECT_EQ(a.decide(in).source, wrench_t::SOURCE_VELOCITY_PID);
-  in.progress_fresh = false;  // follower gone: neutral
-  EXPECT_EQ(a.decide(in).source, wrench_t::SOURCE_NONE);
+  in.progress_fresh = false;  // follower gone after a path: hold (controller_safety_test)
+  EXPECT_EQ(a.decide(in).source, wrench_t::SOURCE_STATION_KEEP);
 }
 
 // The nodes size their reason strings to kMaxReasonLength at construction: every reason fits.
 TEST(Arbiter, EveryReasonFitsTheReservedLength) {
   for (std::int8_t mode = -1; mode <= 3; ++mode) {
-    for (int bits = 0; bits < 8; ++bits) {
+    for (int bits = 0; bits < 32; ++bits) {
       for (double d : {0.5, 2.2, 5.0}) {
         Arbiter a;
         ArbiterInput in;
@@ -344,11 +344,15 @@ TEST(Arbiter, EveryReasonFitsTheReservedLength) {
         in.progress_fresh = bits & 1;
         in.path_active = bits & 2;
         in.complete = bits & 4;
+        in.setpoint_fresh = bits & 8;
         in.distance_to_goal = d;
-        for (int k = 0; k < 2; ++k) {  // twice: the hysteresis branch
-          const auto r = a.decide(in);
-          EXPECT_GT(std::strlen(r.reason), 0u);
-          EXPECT_LE(std::strlen(r.reason), Arbiter::kMaxReasonLength) << r.reason;
+        Arbiter b({mode, 2.0, 0.5, (bits & 16) != 0});
+        for (int k = 0; k < 2; ++k) {             // twice: the hysteresis branch
+          in.path_active = k == 0 || (bits & 2);  // a path first: the hold branches
+          for (const auto& r : {a.decide(in), b.decide(in)}) {
+            EXPECT_GT(std::strlen(r.reason), 0u);
+            EXPECT_LE(std::strlen(r.reason), Arbiter::kMaxReasonLength) << r.reason;
+          }
         }
       }
     }

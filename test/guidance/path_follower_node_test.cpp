@@ -1,8 +1,9 @@
 // The path follower node: messages in, setpoint / progress / station target out; bad input
 // (table-driven: a malformed message of each input type is dropped, counted, and changes no
-// output); a cancel over the bus after a path is obeyed.
+// output); a cancel over the bus after a path is obeyed; the operator's pause, resume, abort.
 #include <gtest/gtest.h>
 
+#include <tiller/mission_command_t.hpp>
 #include <tiller/path_progress_t.hpp>
 #include <tiller/station_target_t.hpp>
 #include <tiller/velocity_setpoint_t.hpp>
@@ -157,6 +158,64 @@ TEST(PathFollowerNode, CancelAfterAPathOverTheBusStopsTheFollower) {
   EXPECT_FALSE(node.follower().has_path());
   EXPECT_FALSE(s.sp.active);
   EXPECT_EQ(s.pr.path_id, -1);
+}
+
+mission_command_t command(std::int64_t id, std::int8_t c) {
+  mission_command_t m{};
+  m.command_id = id;
+  m.command = c;
+  m.source = "test";
+  return m;
+}
+
+// The operator's PAUSE / RESUME / ABORT (and a cancel) against a path repeated every 0.5 s, as
+// tiller-mission repeats its path: a paused path is kept (progress: its id, segment -1, setpoint
+// inactive) and RESUME follows it again; an aborted or cancelled path stays dropped when its
+// repeats arrive (counted in paths.dropped_repeats), a new path_id starts; a repeated command id
+// is ignored.
+TEST(PathFollowerNode, PauseResumeAbortAndCancelAgainstARepeatedPath) {
+  PathFollowerNode node(params());
+  LockstepExecutor ex(0);
+  ex.add(node);
+  Seen s;
+  watch(ex, s);
+  for (TimeUs t = 0; t < 6'000'000; t += 100'000) {
+    ex.inject(channels::kOdometry, odom(t, 1, 0, 0), t);
+    if (t % 500'000 == 0) ex.inject(channels::kPath, path(5, {{0, 0}, {100, 0}}), t + 10'000);
+  }
+  ex.run_until(900'000);
+  ASSERT_TRUE(s.sp.active);
+  ex.inject(channels::kMissionCommand, command(11, mission_command_t::PAUSE), 950'000);
+  ex.run_until(1'900'000);  // two repeats of path 5 meanwhile
+  EXPECT_TRUE(node.paused());
+  EXPECT_TRUE(node.follower().has_path());
+  EXPECT_FALSE(s.sp.active);
+  EXPECT_EQ(s.pr.path_id, 5);
+  EXPECT_EQ(s.pr.segment, -1);
+  EXPECT_FALSE(s.st.active);
+  ex.inject(channels::kMissionCommand, command(12, mission_command_t::RESUME), 1'950'000);
+  ex.run_until(2'900'000);
+  EXPECT_FALSE(node.paused());
+  EXPECT_TRUE(s.sp.active);
+  EXPECT_EQ(s.pr.segment, 0);
+  ex.inject(channels::kMissionCommand, command(12, mission_command_t::PAUSE), 2'950'000);
+  ex.run_until(3'000'000);
+  EXPECT_FALSE(node.paused());  // id 12 was used: ignored
+  ex.inject(channels::kMissionCommand, command(13, mission_command_t::ABORT), 3'050'000);
+  ex.run_until(4'900'000);  // three repeats of path 5: 3.51, 4.01, 4.51 s
+  EXPECT_FALSE(node.follower().has_path());
+  EXPECT_FALSE(s.sp.active);
+  EXPECT_EQ(s.pr.path_id, -1);
+  EXPECT_EQ(node.counter_value("paths.dropped_repeats"), 3);
+  ex.inject(channels::kPath, path(8, {{0, 0}, {0, 50}}), 4'950'000);  // a new path starts
+  ex.run_until(5'100'000);
+  EXPECT_TRUE(s.sp.active);
+  EXPECT_EQ(s.pr.path_id, 8);
+  ex.inject(channels::kPath, path(9, {}), 5'150'000);  // a planner's cancel of path 8
+  ex.inject(channels::kPath, path(8, {{0, 0}, {0, 50}}), 5'250'000);
+  ex.run_until(5'600'000);
+  EXPECT_FALSE(node.follower().has_path());
+  EXPECT_EQ(node.counter_value("paths.dropped_repeats"), 6);  // 5 at 5.01, 8 at 5.25, 5 at 5.51 s
 }
 
 // ---- Malformed input, table-driven. A reference run (odometry at 20 Hz moving along a path,

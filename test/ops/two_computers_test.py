@@ -2,7 +2,7 @@
 """Two computers: the simulated ROV flown from a topside computer over a link that is cut.
 
 Usage (CTest runs it inside tools/netns-run, a private network namespace):
-    two_computers_test.py SOURCE_DIR BUILD_DIR [--neutral-only]
+    two_computers_test.py SOURCE_DIR BUILD_DIR
 
 Inside the private namespace it makes two more, "topside" and "vehicle", each held by a
 sleeping process, joined by a veth pair with addresses only on the veths (10.200.0.1/30 and
@@ -11,9 +11,9 @@ lcm_url). The vehicle runs config/launch/vehicle_sim_rov.yaml (simulator, ESC, m
 the topside config/launch/topside_seed000_rov.yaml (tiller-teleop reading a FIFO joystick).
 The pilot arms with the stick centred and pushes it forward (the vehicle moves); the link is
 cut (ip link set down on the topside's veth): every ESC output later than the mixer's
-manual-demand freshness limit must be neutral and, unless --neutral-only, the ESC must disarm
-after the longer pilot-input limit. The link comes back with the stick still held: no thrust
-until the stick is centred and the pilot arms again; then it moves again. Prints the measured
+manual-demand freshness limit must be neutral and the ESC must disarm after the longer
+pilot-input limit (the mixer's safety.disarm_after_s). The link comes back with the stick still
+held: no thrust until the stick is centred and the pilot arms again; then it moves again. Prints the measured
 link-cut -> neutral and link-cut -> disarm times. Everything it made is removed at the end.
 """
 import csv
@@ -27,7 +27,6 @@ import time
 import struct
 
 src, build = sys.argv[1], sys.argv[2]
-neutral_only = "--neutral-only" in sys.argv[3:]
 bindir = os.path.join(build, "bin")
 work = tempfile.mkdtemp(prefix="tiller-two-computers-")
 failures = []
@@ -222,19 +221,19 @@ if tcol:
     if disarm is not None:
         measured["disarm_s"] = float(disarm[tcol]) / 1e6 - cut
         # Disarm after the longer limit, counted from the last input heard or from its loss.
-        if not neutral_only and measured["disarm_s"] > limit + DISARM_AFTER_S + 0.2:
+        if measured["disarm_s"] > limit + DISARM_AFTER_S + 0.2:
             fail(f"disarm {measured['disarm_s']:.3f} s after the cut: limit "
                  f"{limit} + {DISARM_AFTER_S} s")
-        if not neutral_only and measured["disarm_s"] < DISARM_AFTER_S - 0.2:
+        if measured["disarm_s"] < DISARM_AFTER_S - 0.2:
             fail(f"disarm {measured['disarm_s']:.3f} s after the cut, before the "
                  f"{DISARM_AFTER_S} s limit")
-    elif not neutral_only:
+    else:
         fail(f"the ESC did not disarm in the {LINK_DOWN_S} s the link was down")
     held = [r for r in esc if restore <= t(r) < centre + 0.05 and moving(r)]
-    if held and not neutral_only:
+    if held:
         fail(f"{len(held)} ESC outputs off neutral after the link came back with the stick held")
     again = [r for r in esc if push2 + 0.3 <= t(r) < marks["end"] and moving(r)]
-    if not again and not neutral_only:
+    if not again:
         fail("no thrust after centring, arming again and pushing the stick")
     print(f"link cut -> neutral: {measured.get('neutral_s', float('nan')):.3f} s "
           f"(mixer manual-demand limit {limit} s); link cut -> disarm: "

@@ -37,6 +37,8 @@
 #include "guidance/follower_config.hpp"
 #include "guidance/path_follower_node.hpp"
 #include "i2c/fake_bus.hpp"
+#include "launch/launch_file.hpp"
+#include "launch/monitor.hpp"
 #include "mission/mission.hpp"
 #include "mission/mission_node.hpp"
 #include "mixer/mixer_node.hpp"
@@ -112,6 +114,21 @@ i2c::FakeBus& fake_bus() {
   static i2c::FakeBus bus;
   return bus;
 }
+
+// A LaunchMonitor with its own supervisor (never started: no process is spawned).
+struct NoHost : launch::ProcessHost {
+  int spawn(const launch::ProcessSpec&, std::string&) override { return -1; }
+  void signal(int, int) override {}
+};
+struct SupervisorBox {
+  explicit SupervisorBox(std::vector<launch::ProcessSpec> p) : sup(std::move(p), "", 1.0, host) {}
+  NoHost host;
+  launch::Supervisor sup;
+};
+struct OwnedMonitor : SupervisorBox, launch::LaunchMonitor {
+  explicit OwnedMonitor(std::vector<launch::ProcessSpec> p)
+      : SupervisorBox(std::move(p)), LaunchMonitor(sup) {}
+};
 
 std::vector<NodeCase> node_cases() {
   std::vector<NodeCase> out;
@@ -198,6 +215,12 @@ std::vector<NodeCase> node_cases() {
     out.push_back({"LeakNode", "tiller-leak " + rel(f), [f](InputContext&) {
                      static sensors::FakeGpio gpio;  // outlives the nodes
                      return std::make_unique<sensors::LeakNode>(sensors::load_leak_file(f), gpio);
+                   }});
+  }
+  // tiller-launch's monitor, watching every process of each shipped launch file.
+  for (const auto& f : shipped("launch")) {
+    out.push_back({"LaunchMonitor", "tiller-launch " + rel(f), [f](InputContext&) {
+                     return std::make_unique<OwnedMonitor>(launch::load_launch_file(f).processes);
                    }});
   }
   for (const auto& f : shipped("missions")) {
