@@ -76,11 +76,21 @@ FollowerParams load_follower_params(const config::Value& v) {
   }
   p.heading_slowdown_angle = v.angle_deg("heading_slowdown_angle_deg", {1, 360});
   p.goal_heading_distance = v.number("goal_heading_distance", nonneg);
-  p.law = v.choice("cross_track_law", {"seed", "integral"}) == "seed" ? CrossTrackLaw::kSeed
-                                                                      : CrossTrackLaw::kIntegral;
+  const std::string law =
+      v.choice("cross_track_law", {"seed", "world_integral", "los", "integral", "adaptive"});
+  p.law = law == "seed"             ? CrossTrackLaw::kSeed
+          : law == "world_integral" ? CrossTrackLaw::kWorldIntegral
+          : law == "los"            ? CrossTrackLaw::kLos
+          : law == "integral"       ? CrossTrackLaw::kIntegral
+                                    : CrossTrackLaw::kAdaptive;
   p.integral_gain = v.number("integral_gain", nonneg);
   p.integral_limit = v.number("integral_limit", nonneg);
+  p.lookahead = v.number("lookahead_distance", {0.1, 1000});
+  p.integral_kappa = v.number("integral_kappa", {1e-6, 100});
+  p.adaptive_gamma = v.number("adaptive_gamma", {0, 10});
+  p.max_crab = v.angle_deg("max_crab_deg", {0, 80});
   p.integral_zone = v.number("integral_zone", nonneg);
+  p.turn_rate = v.number("turn_rate", {0, 10});
   return p;
 }
 

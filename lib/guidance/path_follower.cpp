@@ -17,7 +17,8 @@ void PathFollower::clear() {
   stepped_back_ = 0;
   entered_by_cut_ = false;
   entered_by_skip_ = false;
-  integral_.setZero();
+  state_ = 0;
+  world_integral_.setZero();
 }
 
 bool PathFollower::set_path(const std::vector<Waypoint>& points, const Vec2& vehicle,
@@ -86,6 +87,55 @@ double PathFollower::turn_factor(double angle) const {
   return std::clamp(1.0 - p_.turn_reduction * std::abs(angle) / kPi, p_.turn_min_fraction, 1.0);
 }
 
+double PathFollower::los_heading(double path, double e) const {
+  const double d = p_.lookahead;
+  switch (p_.law) {
+    case CrossTrackLaw::kLos:
+      return wrap_pi(path - std::atan(e / d));
+    case CrossTrackLaw::kIntegral:
+      return wrap_pi(path - std::atan((e + p_.integral_kappa * state_) / d));
+    case CrossTrackLaw::kAdaptive:
+      return wrap_pi(path - state_ - std::atan(e / d));
+    case CrossTrackLaw::kSeed:
+    case CrossTrackLaw::kWorldIntegral:
+      break;
+  }
+  return wrap_pi(path);
+}
+
+double PathFollower::wheel_over(double angle, double speed) const {
+  if (!(p_.turn_rate > 0)) return 0;
+  const double r = std::max(0.0, speed) / p_.turn_rate;
+  return r * std::tan(std::min(std::abs(angle), 2 * kPi / 3) / 2);
+}
+
+double PathFollower::crab() const {
+  if (p_.law == CrossTrackLaw::kIntegral) {
+    return std::atan(p_.integral_kappa * state_ / p_.lookahead);
+  }
+  return p_.law == CrossTrackLaw::kAdaptive ? state_ : 0.0;
+}
+
+// The state is the crab angle that cancels the current's component along the path normal.
+// The normal turns with the path: project the known component onto the new normal.
+void PathFollower::carry_state(int from_seg, int to_seg) {
+  if (p_.law != CrossTrackLaw::kIntegral && p_.law != CrossTrackLaw::kAdaptive) return;
+  const int n = static_cast<int>(pts_.size());
+  if (from_seg < 0 || to_seg < 0 || from_seg + 1 >= n || to_seg + 1 >= n) {
+    state_ = 0;
+    return;
+  }
+  const auto dir = [&](int k) {
+    return Vec2(pts_[static_cast<std::size_t>(k + 1)].position -
+                pts_[static_cast<std::size_t>(k)].position)
+        .normalized();
+  };
+  const double c = std::clamp(dir(from_seg).dot(dir(to_seg)), -1.0, 1.0);
+  const double beta = std::asin(std::clamp(std::sin(crab()) * c, -1.0, 1.0));
+  state_ =
+      p_.law == CrossTrackLaw::kIntegral ? p_.lookahead * std::tan(beta) / p_.integral_kappa : beta;
+}
+
 FollowerOutput PathFollower::update(const Vec2& pos, double heading, double dt) {
   FollowerOutput out;
   if (pts_.empty() || !pos.allFinite() || !std::isfinite(heading)) return out;
@@ -114,11 +164,21 @@ FollowerOutput PathFollower::update(const Vec2& pos, double heading, double dt) 
     const double d2 = (pos - p2).norm();
     const bool last = seg_ + 1 == n - 1;
     const bool reached = d2 < p_.acceptance_radius;
-    const bool cut = !last && d2 < p_.corner_cut_radius;
+    bool cut = !last && d2 < p_.corner_cut_radius;
+    if (!last && p_.turn_rate > 0 && rel == SegmentRelation::kMiddle) {
+      // Turn anticipation: leave the segment at the wheel-over point.
+      const Vec2 t1 = s.normalized();
+      const Vec2 t2 = (pts_[static_cast<std::size_t>(seg_ + 2)].position - p2).normalized();
+      const double angle = std::acos(std::clamp(t1.dot(t2), -1.0, 1.0));
+      const double wo = wheel_over(angle, p_.max_speed * turn_factor(angle));
+      const double ahead = t1.dot(p2 - pos);  // along-track distance to p2
+      if (ahead < wo && d2 < 2 * wo + p_.corner_cut_radius) cut = true;
+    }
     if (reached || cut || rel == SegmentRelation::kInFront) {
       const bool skip =
           min_dist_[static_cast<std::size_t>(seg_ + 1)] >= p_.acceptance_radius && !cut;
       if (skip) ++skipped_;
+      carry_state(seg_, seg_ + 1);
       ++seg_;
       entered_by_cut_ = cut;
       entered_by_skip_ = skip;
@@ -137,6 +197,7 @@ FollowerOutput PathFollower::update(const Vec2& pos, double heading, double dt) 
       const Vec2 s0 = p1 - p0;
       if (s0.dot(pos - p0) >= 0 && s0.dot(pos - p1) <= 0) {
         if (entered_by_skip_) --skipped_;
+        carry_state(seg_, seg_ - 1);
         --seg_;
         entered_by_cut_ = false;
         entered_by_skip_ = false;
@@ -177,28 +238,64 @@ FollowerOutput PathFollower::update(const Vec2& pos, double heading, double dt) 
     out.remaining_path =
         std::max(0.0, len - along) + tail_length_[static_cast<std::size_t>(seg_ + 1)];
 
-    // Toward the path.
-    out.approach_speed = std::min(p_.approach_max_speed, e / p_.approach_divisor_s);
-    Vec2 v_perp = e > 1e-9 ? Vec2(to_path / e * out.approach_speed) : Vec2(0, 0);
-    if (p_.law == CrossTrackLaw::kIntegral && dt > 0 && e < p_.integral_zone) {
-      integral_ += p_.integral_gain * to_path * dt;
-      const double m = integral_.norm();
-      if (m > p_.integral_limit) integral_ *= p_.integral_limit / m;
-    }
-    if (p_.law == CrossTrackLaw::kIntegral) v_perp += integral_;
-    out.integral_correction = integral_;
-
+    const bool seed_law = p_.law == CrossTrackLaw::kSeed || p_.law == CrossTrackLaw::kWorldIntegral;
     // Along the path.
-    double along_speed = p_.max_speed * std::max(0.0, 1.0 - e / p_.parallel_cutoff_distance);
-    if (seg_ + 2 < n && (p2 - pos).norm() < p_.turn_slowdown_distance) {
+    double along_speed = seed_law
+                             ? p_.max_speed * std::max(0.0, 1.0 - e / p_.parallel_cutoff_distance)
+                             : p_.max_speed;
+    if (seg_ + 2 < n) {
       const Vec2 t2 = (pts_[static_cast<std::size_t>(seg_ + 2)].position - p2).normalized();
       const double angle = std::acos(std::clamp(t.dot(t2), -1.0, 1.0));
-      out.turn_factor = turn_factor(angle);
-      along_speed = std::min(along_speed, p_.max_speed * out.turn_factor);
+      out.wheel_over = wheel_over(angle, p_.max_speed * turn_factor(angle));
+      if ((p2 - pos).norm() < p_.turn_slowdown_distance) {
+        out.turn_factor = turn_factor(angle);
+        along_speed = std::min(along_speed, p_.max_speed * out.turn_factor);
+      }
+    }
+    if (p_.turn_rate > 0 && seg_ > 0 && (p1 - pos).norm() < p_.turn_slowdown_distance) {
+      // With turn anticipation the turn is flown after the switch: keep its speed through it.
+      const Vec2 t0 = (p1 - pts_[static_cast<std::size_t>(seg_ - 1)].position).normalized();
+      const double f = turn_factor(std::acos(std::clamp(t0.dot(t), -1.0, 1.0)));
+      out.turn_factor = std::min(out.turn_factor, f);
+      along_speed = std::min(along_speed, p_.max_speed * f);
     }
     along_speed = std::min(along_speed, end_speed(out.remaining_path));
     out.along_speed = along_speed;
-    v = t * along_speed + v_perp;
+    if (seed_law) {
+      // Toward the path.
+      out.approach_speed = std::min(p_.approach_max_speed, e / p_.approach_divisor_s);
+      Vec2 v_perp = e > 1e-9 ? Vec2(to_path / e * out.approach_speed) : Vec2(0, 0);
+      if (p_.law == CrossTrackLaw::kWorldIntegral) {
+        if (dt > 0 && e < p_.integral_zone) {
+          world_integral_ += p_.integral_gain * to_path * dt;
+          const double m = world_integral_.norm();
+          if (m > p_.integral_limit) world_integral_ *= p_.integral_limit / m;
+        }
+        v_perp += world_integral_;
+      }
+      v = t * along_speed + v_perp;
+    } else {
+      const double ye = out.cross_track;
+      const double d = p_.lookahead;
+      // No integration while a turn is flown (within turn_slowdown_distance after the corner):
+      // the cross-track error there is the turn's, not the current's (it wound the state up and
+      // doubled the overshoot).
+      const bool in_turn = seg_ > 0 && (p1 - pos).norm() < p_.turn_slowdown_distance;
+      if (dt > 0 && std::abs(ye) < p_.integral_zone && !in_turn) {
+        if (p_.law == CrossTrackLaw::kIntegral) {
+          const double s_ = ye + p_.integral_kappa * state_;
+          state_ += dt * d * ye / (s_ * s_ + d * d);
+          const double lim = d * std::tan(p_.max_crab) / p_.integral_kappa;
+          state_ = std::clamp(state_, -lim, lim);
+        } else if (p_.law == CrossTrackLaw::kAdaptive) {
+          state_ += dt * p_.adaptive_gamma * d * ye / std::sqrt(d * d + ye * ye);
+          state_ = std::clamp(state_, -p_.max_crab, p_.max_crab);
+        }
+      }
+      const double chi = los_heading(std::atan2(t.y(), t.x()), ye);
+      v = Vec2(std::cos(chi), std::sin(chi)) * along_speed;
+    }
+    out.crab = crab();
   }
 
   // Heading: along the desired velocity, or the goal heading near the goal / when translating.

@@ -25,9 +25,32 @@
 // than acceptance_radius from its first point and in the middle of the previous segment, the
 // follower steps back to the previous segment, as the seed's notes say it most likely should.
 //
-// Beyond the seed: an integral cross-track law (integral LOS): a world-frame velocity
-// correction integrates the vector from the vehicle to the path, so a steady cross current
-// leaves no standing offset (bounded by integral_limit).
+// world_integral (the shipped default until the LOS laws pass the short-mission tests): the
+// seed's law plus a world-frame velocity correction integrating the vector to the path (bounded
+// by integral_limit). Known defect (issue 13 finding 2): never unwound at a corner, so after a
+// 90 deg turn it points along the new leg and the setpoint exceeds max_speed.
+//
+// Beyond the seed, three line-of-sight (LOS) cross-track laws (docs/algorithms.md has the
+// sources). With pi_p the segment's direction, e the cross-track error (+ right of the path)
+// and Delta the lookahead distance, the commanded heading is
+//   los:       pi_p - atan(e / Delta)
+//   integral:  pi_p - atan((e + kappa * y_int) / Delta),                    (ILOS, Borhaug 2008)
+//              d(y_int)/dt = Delta * e / ((e + kappa * y_int)^2 + Delta^2)
+//   adaptive:  pi_p - beta_hat - atan(e / Delta),                          (ALOS, Fossen 2023)
+//              d(beta_hat)/dt = gamma * Delta * e / sqrt(Delta^2 + e^2)
+// and the velocity is that heading times the along-path speed (max_speed with the turn, end and
+// heading slow-downs; never above max_speed). The state (y_int, beta_hat) lives in the PATH
+// frame: it integrates only within integral_zone of the path and not within
+// turn_slowdown_distance after a corner (the turn's error is not the current's). It stands for the
+// crab angle that cancels the current's component along the path's normal. At a segment switch the
+// normal turns by the turn angle d; the known component is projected onto the new normal (sin beta'
+// = sin beta * cos d: 90 deg resets it, a hairpin flips it) and the unknown along-path component
+// taken as zero. The crab angle is bounded by max_crab.
+//
+// Turn anticipation (turn_rate > 0, any law): a segment is left at the wheel-over point, at
+// R * tan(d / 2) before its end point (R = U / turn_rate, U = max_speed * the turn factor: the
+// turn's speed), so the turn ends on the next leg instead of outside it; the turn's slow-down
+// then also holds within turn_slowdown_distance after the corner (the turn is flown there).
 //
 // Bad paths: consecutive points closer than min_segment_length are merged (repeated points,
 // zero-length segments); a one-point path becomes a segment from the vehicle's position to the
@@ -45,7 +68,7 @@ namespace tiller::guidance {
 using Vec2 = Eigen::Vector2d;
 
 enum class EndSlowdown { kLinear, kConstantDecel };
-enum class CrossTrackLaw { kSeed, kIntegral };
+enum class CrossTrackLaw { kSeed, kWorldIntegral, kLos, kIntegral, kAdaptive };
 enum class SegmentRelation { kBehind, kMiddle, kInFront };
 
 struct FollowerParams {
@@ -67,9 +90,14 @@ struct FollowerParams {
   double goal_heading_distance = 2.0;       // m: on the last segment, nearer than this (path
                                             // left and straight line), target the goal heading
   CrossTrackLaw law = CrossTrackLaw::kSeed;
-  double integral_gain = 0.05;  // 1/s^2: d(correction)/dt = gain * (vector to path)
-  double integral_limit = 0.5;  // m/s: bound on the correction's magnitude
-  double integral_zone = 3.0;   // m: integrate only when this close to the path
+  double integral_gain = 0.05;    // 1/s^2 (world_integral): d(correction)/dt = gain * to path
+  double integral_limit = 0.5;    // m/s (world_integral): bound on the correction
+  double lookahead = 5.0;         // m: Delta (los, integral, adaptive)
+  double integral_kappa = 1.0;    // m/s: kappa (integral)
+  double adaptive_gamma = 0.005;  // rad/(m s): gamma (adaptive)
+  double max_crab = 0.5;          // rad: bound on the crab angle of the integral / adaptive state
+  double integral_zone = 3.0;     // m: integrate only when this close to the path
+  double turn_rate = 0;           // rad/s: wheel-over from R = U / turn_rate; 0: none (the seed)
 };
 
 struct Waypoint {
@@ -94,7 +122,8 @@ struct FollowerOutput {
   int stepped_back = 0;              // times the follower went back to the previous segment
   // The factors applied (for tuning plots and tests).
   double along_speed = 0, approach_speed = 0, turn_factor = 1, heading_factor = 1;
-  Vec2 integral_correction{0, 0};
+  double crab = 0;        // rad: the integral / adaptive state as a crab angle (+ = to the left)
+  double wheel_over = 0;  // m before the end point where the segment is left (turn anticipation)
 };
 
 class PathFollower {
@@ -118,6 +147,15 @@ class PathFollower {
 
   // Speed allowed with `remaining` m of path left (the end slow-down law in force).
   double end_speed(double remaining) const;
+  // Heading the LOS laws command for cross-track error `e` on a segment of direction `path`.
+  double los_heading(double path, double e) const;
+  // Wheel-over distance for a turn of `angle` rad (0..pi) at speed `speed`: R * tan(angle / 2)
+  // with R = speed / turn_rate, a turn above 120 deg taken as 120 (tan 60 deg: hairpins); 0 without
+  // turn_rate.
+  double wheel_over(double angle, double speed) const;
+  // The law's state: y_int (integral, s) or beta_hat (adaptive, rad).
+  double state() const { return state_; }
+  void set_state(double s) { state_ = s; }
   // Factor for a turn of `angle` rad (0..pi).
   double turn_factor(double angle) const;
 
@@ -140,7 +178,10 @@ class PathFollower {
   double goal_heading_ = 0;
   double last_heading_ = 0;
   bool last_heading_valid_ = false;
-  Vec2 integral_{0, 0};
+  Vec2 world_integral_{0, 0};  // world_integral's correction, m/s NED
+  double state_ = 0;           // y_int (integral) or beta_hat (adaptive), path frame
+  double crab() const;
+  void carry_state(int from_seg, int to_seg);
 };
 
 }  // namespace tiller::guidance

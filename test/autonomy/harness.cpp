@@ -3,6 +3,7 @@
 #include <tiller/arbitration_t.hpp>
 #include <tiller/odometry_t.hpp>
 #include <tiller/path_progress_t.hpp>
+#include <tiller/velocity_setpoint_t.hpp>
 #include <tiller/wrench_t.hpp>
 
 #include <chrono>
@@ -66,10 +67,16 @@ RunResult run_mission(const RunConfig& c) {
   odometry_t o{};
   path_progress_t pr{};
   arbitration_t arb{};
+  velocity_setpoint_t sp{};
   ex.observe([&](const std::string& ch, const std::uint8_t* d, int n, TimeUs t) {
     if (ch == c.pose_channel) {
       if (o.decode(d, 0, n) == n) {
         r.poses.push_back({to_seconds(t), o.position[0], o.position[1], o.orientation[2]});
+      }
+    } else if (ch == channels::kVelocitySetpoint) {
+      if (sp.decode(d, 0, n) == n && sp.active && sp.frame == velocity_setpoint_t::FRAME_NED) {
+        r.max_setpoint_speed =
+            std::max(r.max_setpoint_speed, std::hypot(sp.velocity[0], sp.velocity[1]));
       }
     } else if (ch == channels::kPathProgress) {
       if (pr.decode(d, 0, n) == n && pr.complete && !r.completed) {
@@ -121,6 +128,7 @@ RunResult run_mission(const RunConfig& c) {
   path = scores::path_as_followed(path, r.poses, 0.0);
   r.path = scores::score_path(r.poses, path, 0.0,
                               r.completed ? std::optional<double>(r.completed_at) : std::nullopt);
+  r.corners = scores::corner_scores(r.poses, path, 0.0);
   if (r.completed) {
     r.held_s = r.sim_s - r.completed_at;
     r.station_vrx = scores::vrx_station_keeping(r.poses, path.back(), r.completed_at, r.sim_s);

@@ -12,6 +12,7 @@
 #include "guidance/follower_config.hpp"
 #include "mission/mission.hpp"
 #include "runtime/node.hpp"
+#include "scores/path_metrics.hpp"
 #include "scores/scores.hpp"
 
 namespace tiller::test {
@@ -46,6 +47,8 @@ struct RunResult {
                                     // wrenches within 2 s after a hand-over between the
                                     // velocity PID and station keeping
   double max_force = 0;             // N: largest active |X|
+  double max_setpoint_speed = 0;    // m/s: largest |velocity| of an active NED setpoint
+  scores::CornerScores corners;     // steady cross-track and corner overshoot
   double sim_s = 0, wall_s = 0;
   std::vector<scores::Pose> poses;
 };

@@ -332,6 +332,7 @@ double standing_offset(CrossTrackLaw law) {
 
 TEST(PathFollower, IntegralLawRemovesTheStandingOffsetOfACrossCurrent) {
   EXPECT_NEAR(standing_offset(CrossTrackLaw::kSeed), 0.52, 0.01);
+  EXPECT_LT(std::abs(standing_offset(CrossTrackLaw::kWorldIntegral)), 0.02);
   EXPECT_LT(std::abs(standing_offset(CrossTrackLaw::kIntegral)), 0.02);
 }
 
@@ -398,6 +399,10 @@ TEST(FollowerConfig, PerVehicleFilesDeriveTheBrakingFromTheVehicle) {
                          a.goal_heading_distance,
                          a.integral_gain,
                          a.integral_limit,
+                         a.lookahead,
+                         a.integral_kappa,
+                         a.adaptive_gamma,
+                         a.max_crab,
                          a.integral_zone};
     const double bv[] = {b.max_speed,
                          b.acceptance_radius,
@@ -416,10 +421,15 @@ TEST(FollowerConfig, PerVehicleFilesDeriveTheBrakingFromTheVehicle) {
                          b.goal_heading_distance,
                          b.integral_gain,
                          b.integral_limit,
+                         b.lookahead,
+                         b.integral_kappa,
+                         b.adaptive_gamma,
+                         b.max_crab,
                          b.integral_zone};
     for (std::size_t k = 0; k < std::size(av); ++k) EXPECT_EQ(av[k], bv[k]) << "field " << k;
     EXPECT_EQ(a.end_slowdown, b.end_slowdown);
     EXPECT_EQ(a.law, b.law);
+    EXPECT_EQ(a.turn_rate, b.turn_rate);
     EXPECT_EQ(q.rate_hz, def.rate_hz);
     EXPECT_EQ(q.odometry_timeout_s, def.odometry_timeout_s);
   }

@@ -3,6 +3,7 @@
 
 #include <cmath>
 
+#include "scores/path_metrics.hpp"
 #include "scores/scores.hpp"
 
 namespace tiller::scores {
@@ -107,3 +108,27 @@ TEST(Scores, VrxStationKeeping) {
 
 }  // namespace
 }  // namespace tiller::scores
+
+// corner_scores on a hand-made run: an L path (0,0) -> (100,0) -> (100,100), the vehicle at
+// 1 m/s, 0.5 m right of the first leg (east), overshooting the corner by 2 m north, then 0.2 m
+// left of the second leg (north of it).
+TEST(CornerScores, HandMadeRun) {
+  using namespace tiller::scores;
+  std::vector<Goal> path = {{0, 0}, {100, 0}, {100, 100}};
+  std::vector<Pose> run;
+  double t = 0;
+  for (int n = 0; n <= 100; ++n) run.push_back({t++, double(n), 0.5, 0});    // leg 1
+  run.push_back({t++, 102, 2, 0});                                           // overshoot 2 m
+  for (int e = 3; e <= 100; ++e) run.push_back({t++, 100.2, double(e), 0});  // leg 2
+  const auto c = corner_scores(run, path, 0, 60);
+  ASSERT_EQ(c.passage.size(), 3u);
+  EXPECT_DOUBLE_EQ(c.passage[0], 0);
+  EXPECT_DOUBLE_EQ(c.passage[1], 100);  // (100, 0.5): 0.5 m from the corner
+  EXPECT_DOUBLE_EQ(c.passage[2], 199);  // (100.2, 100)
+  ASSERT_EQ(c.overshoot.size(), 1u);
+  EXPECT_NEAR(c.overshoot[0], 2.0, 1e-12);
+  EXPECT_NEAR(c.max_overshoot, 2.0, 1e-12);
+  // Steady: leg 1 from t = 60 to 100 (41 samples at 0.5 m), leg 2 from 160 to 199 (40 at 0.2).
+  EXPECT_EQ(c.steady_samples, 81);
+  EXPECT_NEAR(c.steady_cross_track_rms, std::sqrt((41 * 0.25 + 40 * 0.04) / 81), 1e-12);
+}

@@ -1,0 +1,31 @@
+// Path-following metrics of a run over a polyline path (world NED, m; times s), for tuning
+// cross-track laws and turn anticipation (docs/tuning.md):
+//   * passage times: for each waypoint in order, the time of the vehicle's closest approach to
+//     it, searched from the previous waypoint's passage until the vehicle, having come within a
+//     quarter of the next leg's length of the waypoint, is halfway along the next leg;
+//   * steady cross-track RMS: the distance to each leg's line from settle_s after the leg began
+//     (the passage of its first point) to the passage of its end point, RMS over all legs;
+//   * corner overshoot: at each interior waypoint, the largest distance the vehicle goes beyond
+//     the next leg's line on the outside of the turn (the side the previous leg points to),
+//     from the previous waypoint's passage until it is halfway along the next leg.
+// Lower is better for every number. Legs shorter than settle_s of travel give no steady samples.
+#pragma once
+
+#include <vector>
+
+#include "scores/scores.hpp"
+
+namespace tiller::scores {
+
+struct CornerScores {
+  std::vector<double> passage;         // s: time of closest approach to each waypoint (-1: never)
+  double steady_cross_track_rms = -1;  // m; -1: no steady samples
+  int steady_samples = 0;
+  std::vector<double> overshoot;  // m, per interior waypoint (>= 0)
+  double max_overshoot = 0;       // m
+};
+
+CornerScores corner_scores(const std::vector<Pose>& run, const std::vector<Goal>& path,
+                           double start, double settle_s = 60);
+
+}  // namespace tiller::scores

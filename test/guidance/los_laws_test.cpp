@@ -1,0 +1,192 @@
+// The LOS cross-track laws (los, integral ILOS, adaptive ALOS), their state at a segment switch
+// and the wheel-over point, against hand-computed values; and issue 13 finding 2 (the old
+// world-frame integral correction, never unwound at a corner, pushed the commanded speed above
+// max_speed) with a vehicle that does exactly what it is told in a current.
+#include <gtest/gtest.h>
+
+#include <cmath>
+
+#include "guidance/path_follower.hpp"
+
+namespace tiller::guidance {
+namespace {
+
+FollowerParams los_params(CrossTrackLaw law) {
+  FollowerParams p;
+  p.max_speed = 1.5;
+  p.law = law;
+  p.lookahead = 5.0;
+  p.integral_kappa = 1.0;
+  p.adaptive_gamma = 0.005;
+  p.max_crab = 0.5;
+  p.integral_zone = 3.0;
+  p.turn_rate = 0;
+  p.integral_gain = 0.05;
+  p.integral_limit = 0.5;
+  return p;
+}
+
+std::vector<Waypoint> pts(std::initializer_list<std::pair<double, double>> l) {
+  std::vector<Waypoint> v;
+  for (auto [n, e] : l) {
+    Waypoint w;
+    w.position = Vec2(n, e);
+    v.push_back(w);
+  }
+  return v;
+}
+
+// Path north, vehicle 1 m east (e = +1, right of the path), 50 m from the end, heading north.
+FollowerOutput one_step(PathFollower& f, double state, double heading, double dt) {
+  f.set_path(pts({{0, 0}, {100, 0}}), Vec2(50, 1), heading, false);
+  f.set_state(state);
+  return f.update(Vec2(50, 1), heading, dt);
+}
+
+TEST(LosLaws, PlainLosHeadingAndSpeedAlong) {
+  PathFollower f(los_params(CrossTrackLaw::kLos));
+  const auto o = one_step(f, 0, 0, 0.1);
+  EXPECT_DOUBLE_EQ(o.cross_track, 1.0);
+  EXPECT_NEAR(o.target_heading, -std::atan(1.0 / 5.0), 1e-12);  // -0.19740 rad
+  // Speed max_speed along that heading, reduced by the heading error (0.1974 / (pi/2)).
+  const double factor = 1 - std::atan(0.2) / (kPi / 2);
+  EXPECT_NEAR(o.velocity.norm(), 1.5 * factor, 1e-12);
+  EXPECT_NEAR(std::atan2(o.velocity.y(), o.velocity.x()), -std::atan(0.2), 1e-12);
+  // Already on that heading: the full max_speed, never more, even 10 m off the path.
+  EXPECT_NEAR(one_step(f, 0, -std::atan(0.2), 0.1).velocity.norm(), 1.5, 1e-12);
+  f.set_path(pts({{0, 0}, {100, 0}}), Vec2(50, 10), 0, false);
+  const auto far = f.update(Vec2(50, 10), -std::atan(2.0), 0.1);
+  EXPECT_NEAR(far.target_heading, -std::atan(2.0), 1e-12);
+  EXPECT_NEAR(far.velocity.norm(), 1.5, 1e-12);
+}
+
+TEST(LosLaws, IntegralLosHandComputed) {
+  PathFollower f(los_params(CrossTrackLaw::kIntegral));
+  // y_int 0.5: d(y_int)/dt = 5 * 1 / ((1 + 0.5)^2 + 25) = 5 / 27.25; after 0.1 s 0.5183486.
+  const auto o = one_step(f, 0.5, 0, 0.1);
+  const double y = 0.5 + 0.1 * 5.0 / 27.25;
+  EXPECT_NEAR(f.state(), y, 1e-12);
+  EXPECT_NEAR(o.target_heading, -std::atan((1.0 + y) / 5.0), 1e-12);  // -0.29482 rad
+  EXPECT_NEAR(o.crab, std::atan(y / 5.0), 1e-12);
+  // dt 0: no integration.
+  one_step(f, 0.5, 0, 0);
+  EXPECT_DOUBLE_EQ(f.state(), 0.5);
+  // Bounded: atan(kappa y / Delta) <= max_crab (0.5 rad): y <= 5 tan(0.5) = 2.7315.
+  one_step(f, 10, 0, 0.1);
+  EXPECT_NEAR(f.state(), 5 * std::tan(0.5), 1e-12);
+}
+
+TEST(LosLaws, AdaptiveLosHandComputed) {
+  PathFollower f(los_params(CrossTrackLaw::kAdaptive));
+  // beta_hat 0.1: d/dt = 0.005 * 5 * 1 / sqrt(26) = 0.0049029; after 0.1 s 0.10049029.
+  const auto o = one_step(f, 0.1, 0, 0.1);
+  const double b = 0.1 + 0.1 * 0.005 * 5 / std::sqrt(26.0);
+  EXPECT_NEAR(f.state(), b, 1e-12);
+  EXPECT_NEAR(o.target_heading, -b - std::atan(0.2), 1e-12);  // -0.29789 rad
+  EXPECT_NEAR(o.crab, b, 1e-12);
+  // Outside integral_zone (3 m): no adaptation.
+  f.set_path(pts({{0, 0}, {100, 0}}), Vec2(50, 4), 0, false);
+  f.set_state(0.1);
+  f.update(Vec2(50, 4), 0, 0.1);
+  EXPECT_DOUBLE_EQ(f.state(), 0.1);
+}
+
+// At a switch the state's crab angle beta becomes asin(sin(beta) cos(turn)).
+double crab_after_switch(CrossTrackLaw law, std::initializer_list<std::pair<double, double>> path,
+                         Vec2 at) {
+  PathFollower f(los_params(law));
+  f.set_path(pts(path), Vec2(0, 0), 0, false);
+  f.update(Vec2(50, 0), 0, 0);                                             // on the first leg
+  f.set_state(law == CrossTrackLaw::kIntegral ? 5 * std::tan(0.2) : 0.2);  // crab 0.2 rad
+  const auto o = f.update(at, 0, 0);
+  EXPECT_EQ(o.segment, 1);
+  return o.crab;
+}
+
+TEST(LosLaws, StateAtASwitchIsProjectedOntoTheNewPathNormal) {
+  for (auto law : {CrossTrackLaw::kIntegral, CrossTrackLaw::kAdaptive}) {
+    SCOPED_TRACE(static_cast<int>(law));
+    // 90 deg: reset.
+    EXPECT_NEAR(crab_after_switch(law, {{0, 0}, {100, 0}, {100, 100}}, Vec2(100.2, 0.5)), 0, 1e-12);
+    // Hairpin (180 deg, the return leg 0.1 m aside): flipped.
+    EXPECT_NEAR(crab_after_switch(law, {{0, 0}, {100, 0}, {0, 0.1}}, Vec2(100.5, 0)),
+                std::asin(std::sin(0.2) * std::cos(kPi - std::atan2(0.1, 100))), 1e-12);
+    // A 30 deg bend: sin(beta) cos(30 deg).
+    const double s30 = std::sin(kPi / 6), c30 = std::cos(kPi / 6);
+    EXPECT_NEAR(
+        crab_after_switch(law, {{0, 0}, {100, 0}, {100 + 100 * c30, 100 * s30}}, Vec2(100.2, 0)),
+        std::asin(std::sin(0.2) * c30), 1e-12);
+  }
+}
+
+TEST(LosLaws, WheelOverPointFromTheTurnRadius) {
+  auto p = los_params(CrossTrackLaw::kLos);
+  p.turn_rate = 0.5;
+  p.turn_slowdown_distance = 5.0;
+  p.turn_reduction = 0.8;
+  p.turn_min_fraction = 0.2;
+  PathFollower f(p);
+  // 90 deg at the turn's speed 1.5 * (1 - 0.8 / 2) = 0.9 m/s: R = 1.8 m, R tan(45 deg) = 1.8 m.
+  EXPECT_NEAR(f.wheel_over(kPi / 2, 0.9), 1.8, 1e-12);
+  EXPECT_NEAR(f.wheel_over(kPi / 3, 1.0), 2.0 * std::tan(kPi / 6), 1e-12);
+  EXPECT_NEAR(f.wheel_over(kPi, 1.0), 2.0 * std::tan(kPi / 3), 1e-12);  // hairpin: as 120 deg
+  f.set_path(pts({{0, 0}, {20, 0}, {20, 20}}), Vec2(0, 0), 0, false);
+  const auto before = f.update(Vec2(18.1, 0), 0, 0.1);  // 1.9 m before the corner
+  EXPECT_EQ(before.segment, 0);
+  EXPECT_NEAR(before.wheel_over, 1.8, 1e-12);
+  EXPECT_EQ(f.update(Vec2(18.3, 0), 0, 0.1).segment, 1);  // 1.7 m: the turn begins
+  // No turn_rate: the seed's corner cut only (1 m).
+  PathFollower g(los_params(CrossTrackLaw::kLos));
+  g.set_path(pts({{0, 0}, {20, 0}, {20, 20}}), Vec2(0, 0), 0, false);
+  EXPECT_EQ(g.update(Vec2(18.3, 0), 0, 0.1).segment, 0);
+  EXPECT_DOUBLE_EQ(g.wheel_over(kPi / 2, 0.9), 0.0);
+}
+
+// A vehicle that does exactly what it is told, plus a current; heading = the target.
+struct Kinematic {
+  double max_speed_seen = 0, cross_track = 0;
+};
+Kinematic fly(CrossTrackLaw law, const Vec2& current, int steps) {
+  auto p = los_params(law);
+  PathFollower f(p);
+  f.set_path(pts({{0, 0}, {300, 0}, {300, 300}}), Vec2(0, 0), 0, false);
+  Vec2 x(0, 0);
+  double heading = 0;
+  Kinematic k;
+  for (int i = 0; i < steps; ++i) {
+    const auto o = f.update(x, heading, 0.1);
+    if (o.heading_valid) heading = o.target_heading;
+    k.max_speed_seen = std::max(k.max_speed_seen, o.velocity.norm());
+    k.cross_track = o.cross_track;
+    x += (o.velocity + current) * 0.1;
+  }
+  return k;
+}
+
+// Issue 13 finding 2: a 90 deg corner in 0.3 m/s current across the first leg (toward the west,
+// so the old law's correction pointed east: along the second leg). The old world-frame integral
+// law commanded up to 1.5 + 0.3 m/s after the corner; no law may command above max_speed.
+TEST(LosLaws, NoSetpointAboveMaxSpeedAfterACornerInCurrent) {
+  for (auto law : {CrossTrackLaw::kSeed, CrossTrackLaw::kLos, CrossTrackLaw::kIntegral,
+                   CrossTrackLaw::kAdaptive}) {
+    SCOPED_TRACE(static_cast<int>(law));
+    const auto k = fly(law, Vec2(0, -0.3), 4000);  // 400 s: both legs
+    EXPECT_LE(k.max_speed_seen, 1.5 + 1e-12);
+  }
+  // The old law (world_integral, still the shipped default): 1.8 m/s, 20 % above max_speed.
+  EXPECT_NEAR(fly(CrossTrackLaw::kWorldIntegral, Vec2(0, -0.3), 4000).max_speed_seen, 1.8, 0.01);
+}
+
+// Converged on the second leg in a 0.3 m/s current across it (toward the south): plain LOS keeps
+// the offset where sin(atan(e / Delta)) = 0.3 / 1.5, e = 5 tan(asin(0.2)) = 1.0206 m (right of
+// the path, the side the current pushes to: e > 0); ILOS and ALOS remove it.
+TEST(LosLaws, IntegralAndAdaptiveRemoveTheOffsetOfACrossCurrent) {
+  EXPECT_NEAR(fly(CrossTrackLaw::kLos, Vec2(-0.3, 0), 3500).cross_track,
+              5 * std::tan(std::asin(0.2)), 0.01);
+  EXPECT_LT(std::abs(fly(CrossTrackLaw::kIntegral, Vec2(-0.3, 0), 3500).cross_track), 0.02);
+  // ALOS at gamma 0.005 adapts more slowly: 0.085 m after 130 s on the leg (LOS: 1.02 m).
+  EXPECT_LT(std::abs(fly(CrossTrackLaw::kAdaptive, Vec2(-0.3, 0), 3500).cross_track), 0.1);
+}
+
+}  // namespace
+}  // namespace tiller::guidance
