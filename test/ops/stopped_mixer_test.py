@@ -50,6 +50,9 @@ launch_file = os.path.join(work, "sim_rov_joystick_unsigned.yaml")
 with open(os.path.join(src, "config/launch/sim_rov_joystick.yaml")) as f:
     text = "".join(("root: " + src + "\n") if l.startswith("root:") else l for l in f
                    if not l.startswith(("key_file:", "create_key:", "require_signed:")))
+# The launcher's heartbeat watchdog (liveness_s, 3 s) would restart a mixer silent for 4 s; this
+# test is about the stopped process itself, so the watchdog is off here.
+text = text.replace("processes:\n", "liveness_s: 0\nprocesses:\n", 1)
 with open(launch_file, "w") as f:
     f.write(text)
 launcher = sp.Popen([os.path.join(bindir, "tiller-launch"), launch_file, "--log-file", log],
