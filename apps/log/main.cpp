@@ -4,6 +4,8 @@
 //   tiller-log csv LOG CHANNEL [--fields F,..] [--output FILE]
 //                                               one CSV row per message, fields decoded by name
 //   tiller-log fields LOG CHANNEL               the field paths of a channel's first message
+//   tiller-log restamp LOG OUT                  LOG moved in time to start now (event times and
+//                                               every message's utime), for lcm-logplayer
 //   tiller-log wait CHANNEL FIELD VALUE [--hold-s S] [--timeout-s S] [--mission FILE]
 //                                               live: exits 0 once FIELD of CHANNEL has equalled
 //                                               VALUE for S seconds, 1 after the timeout (a
@@ -17,6 +19,7 @@
 #include "logtools/logsummary.hpp"
 #include "mission/mission.hpp"
 #include "runtime/app.hpp"
+#include "runtime/live.hpp"
 
 using namespace tiller;
 
@@ -46,8 +49,8 @@ int main(int argc, char** argv) {
         "tiller-log",
         "Looks inside an LCM log: summary (channels, rates, gaps, each process's health and what\n"
         "needs attention), csv (one row per message, --fields, --output), fields (the field paths\n"
-        "of a channel's first message); wait (live, on --lcm-url): exit 0 once FIELD of CHANNEL "
-        "has\n"
+        "of a channel's first message); restamp (LOG moved to start now, utimes included, to play\n"
+        "into live processes); wait (live, on --lcm-url): exit 0 once FIELD of CHANNEL has\n"
         "equalled VALUE for --hold-s, 1 after --timeout-s.",
         "",
         {{"fields", "F[,F..]", "fields to export (path or prefix: position, command, waypoints[0])",
@@ -64,8 +67,9 @@ int main(int argc, char** argv) {
          {"mission", "FILE", "wait: take hold and timeout from this mission file", ""}},
         false};  // no config file: --config refused (--lcm-url is for wait)
     spec.arguments =
-        "summary LOG | csv LOG CHANNEL | fields LOG CHANNEL | wait CHANNEL FIELD VALUE";
-    spec.commands = {{"summary", 1}, {"csv", 2}, {"fields", 2}, {"wait", 3}};
+        "summary LOG | csv LOG CHANNEL | fields LOG CHANNEL | restamp LOG OUT | wait CHANNEL "
+        "FIELD VALUE";
+    spec.commands = {{"summary", 1}, {"csv", 2}, {"fields", 2}, {"restamp", 2}, {"wait", 3}};
     const app::Args a = app::parse(argc, argv, spec);
     const auto& p = a.positional;
     if (p.size() == 4 && p[0] == "wait")
@@ -75,6 +79,9 @@ int main(int argc, char** argv) {
                 << logtools::format_summary(logtools::summarize(logtools::read_any_log(p[1])));
       return 0;
     }
+    if (p.size() == 3 && p[0] == "restamp")
+      return logtools::restamp_log(logtools::read_any_log(p[1]), wall_time_us(), p[2], std::cout,
+                                   std::cerr);
     if (p.size() == 3 && (p[0] == "csv" || p[0] == "fields")) {
       const auto all = logtools::read_any_log(p[1]);
       const auto events = logtools::read_any_log(p[1], p[2]);
@@ -86,8 +93,8 @@ int main(int argc, char** argv) {
       return logtools::export_csv(events, p[2], app::split_list(a.get("fields")), all.front().time,
                                   a.get("output"), std::cout, std::cerr);
     }
-    std::cerr << "tiller-log: expected: summary LOG | csv LOG CHANNEL | fields LOG CHANNEL (see "
-                 "--help)\n";
+    std::cerr << "tiller-log: expected: summary LOG | csv LOG CHANNEL | fields LOG CHANNEL | "
+                 "restamp LOG OUT (see --help)\n";
     return 2;
   });
 }

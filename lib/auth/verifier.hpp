@@ -35,6 +35,10 @@ struct Policy {
   TimeUs window_us = 1'000'000;     // |stamp - receive time| limit (clock offset + latency)
   std::string key_file;             // where the key came from (for messages)
   std::string raw_sender = "tool";  // sender of messages a tool publishes without a node
+  // Not signing: the bound on the clock offset between computers that every node allows on a
+  // message's own utime (Node::on_time; --clock-offset-s / TILLER_CLOCK_OFFSET_S). It
+  // rides here because the live executor takes one policy for what its process accepts.
+  TimeUs clock_offset_us = kDefaultClockOffsetUs;
   bool enabled() const { return key.has_value() || require_signed; }
 };
 

@@ -62,6 +62,7 @@ std::int64_t& StationKeepNode::first_use(std::int64_t*& c, const char* name) {
 }
 
 void StationKeepNode::on_odometry(const odometry_t& m, TimeUs now) {
+  if (!on_time(odom_fresh_, m.utime, now, "odometry")) return;
   // The whole message against its contract (core/message_checks.hpp): non-finite values count
   // under rejected.odometry.nan, the rest (angles out of range, covariance size) under .range.
   if (const char* why = checks::check(m)) {
@@ -71,10 +72,11 @@ void StationKeepNode::on_odometry(const odometry_t& m, TimeUs now) {
     return;
   }
   odom_ = m;
-  odom_fresh_.mark(now);
+  odom_fresh_.mark(now, m.utime, clock_offset());
 }
 
 void StationKeepNode::on_target(const station_target_t& m, TimeUs now) {
+  if (!on_time(target_fresh_, m.utime, now, "station_target")) return;
   // An active target must meet its contract (core/message_checks.hpp: heading, when valid, in
   // (-pi, pi]) and lie within 1e6 m; an inactive one only cancels, its fields are not used.
   if (m.active && (!all_in_range(m.position, -1e6, 1e6) || checks::check(m) != nullptr)) {
@@ -83,28 +85,31 @@ void StationKeepNode::on_target(const station_target_t& m, TimeUs now) {
   }
   if (!m.active) hold_heading_valid_ = false;
   target_ = m;
-  target_fresh_.mark(now);
+  target_fresh_.mark(now, m.utime, clock_offset());
 }
 
 void StationKeepNode::on_arbitration(const arbitration_t& m, TimeUs now) {
+  if (!on_time(arb_fresh_, m.utime, now, "arbitration")) return;
   if (checks::check(m) != nullptr) {  // unknown mode or source
     reject(first_use(bad_arbitration_, "rejected.arbitration.invalid"));
     return;
   }
   arb_ = m;
-  arb_fresh_.mark(now);
+  arb_fresh_.mark(now, m.utime, clock_offset());
 }
 
 void StationKeepNode::on_allocation(const allocation_status_t& m, TimeUs now) {
+  if (!on_time(alloc_fresh_, m.utime, now, "allocation")) return;
   if (checks::check(m) != nullptr) {  // unknown source, NaN, scale outside [0, 1], ...
     reject(first_use(bad_allocation_, "rejected.allocation.invalid"));
     return;
   }
   alloc_ = m;
-  alloc_fresh_.mark(now);
+  alloc_fresh_.mark(now, m.utime, clock_offset());
 }
 
 void StationKeepNode::on_velocity_wrench(const wrench_t& m, TimeUs now) {
+  if (!on_time(velocity_fresh_, m.utime, now, "wrench_velocity")) return;
   // Its contract (core/message_checks.hpp): a known source, each component within +-1e5 (it is
   // re-published as our own wrench while standing by). Dropped: the last good one (or none)
   // stays in force. Non-finite under .nan, the rest under .range.
@@ -114,17 +119,18 @@ void StationKeepNode::on_velocity_wrench(const wrench_t& m, TimeUs now) {
     return;
   }
   velocity_wrench_ = m;
-  velocity_fresh_.mark(now);
+  velocity_fresh_.mark(now, m.utime, clock_offset());
 }
 
 void StationKeepNode::on_thruster_command(const thruster_command_t& m, TimeUs now) {
+  if (!on_time(command_fresh_, m.utime, now, "thruster_command")) return;
   if (checks::check(m) != nullptr) {  // unknown source or gate, commands out of [-1, 1]
     reject(first_use(bad_command_, "rejected.thruster_command.invalid"));
     return;
   }
   command_gate_ = m.gate;
   command_source_ = m.source;
-  command_fresh_.mark(now);
+  command_fresh_.mark(now, m.utime, clock_offset());
 }
 
 void StationKeepNode::publish_wrench(TimeUs now, bool valid, double x, double y, double n) {

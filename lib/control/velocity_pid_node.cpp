@@ -67,6 +67,7 @@ std::int64_t& VelocityPidNode::first_use(std::int64_t*& c, const char* name) {
 }
 
 void VelocityPidNode::on_odometry(const odometry_t& m, TimeUs now) {
+  if (!on_time(odom_fresh_, m.utime, now, "odometry")) return;
   // The whole message against its contract (core/message_checks.hpp): non-finite values count
   // under rejected.odometry.nan, the rest (angles out of range, covariance size) under .range.
   if (const char* why = checks::check(m)) {
@@ -76,10 +77,11 @@ void VelocityPidNode::on_odometry(const odometry_t& m, TimeUs now) {
     return;
   }
   odom_ = m;
-  odom_fresh_.mark(now);
+  odom_fresh_.mark(now, m.utime, clock_offset());
 }
 
 void VelocityPidNode::on_setpoint(const velocity_setpoint_t& m, TimeUs now) {
+  if (!on_time(setpoint_fresh_, m.utime, now, "velocity_setpoint")) return;
   // Its contract (core/message_checks.hpp): a known frame, velocities within 10 m/s, the heading
   // finite and, when valid, in (-pi, pi].
   if (checks::check(m) != nullptr) {
@@ -87,10 +89,11 @@ void VelocityPidNode::on_setpoint(const velocity_setpoint_t& m, TimeUs now) {
     return;
   }
   setpoint_ = m;
-  setpoint_fresh_.mark(now);
+  setpoint_fresh_.mark(now, m.utime, clock_offset());
 }
 
 void VelocityPidNode::on_manual(const manual_velocity_cmd_t& m, TimeUs now) {
+  if (!on_time(manual_fresh_, m.utime, now, "manual_velocity")) return;
   // Its contract: velocity within 10 m/s, a known yaw mode, yaw rate within 5 rad/s, heading in
   // (-pi, pi], yaw torque within 1e4 N m.
   if (checks::check(m) != nullptr) {
@@ -98,11 +101,12 @@ void VelocityPidNode::on_manual(const manual_velocity_cmd_t& m, TimeUs now) {
     return;
   }
   manual_ = m;
-  manual_fresh_.mark(now);
+  manual_fresh_.mark(now, m.utime, clock_offset());
 }
 
-void VelocityPidNode::on_mode(const controller_mode_t& m, TimeUs) {
-  if (checks::check(m) != nullptr) {  // an unknown mode
+void VelocityPidNode::on_mode(const controller_mode_t& m, TimeUs now) {
+  if (!on_time(m.utime, now, kEventMaxAgeUs, "mode")) return;  // a stopped process's queue
+  if (checks::check(m) != nullptr) {                           // an unknown mode
     reject(*bad_mode_);
     return;
   }
@@ -111,25 +115,28 @@ void VelocityPidNode::on_mode(const controller_mode_t& m, TimeUs) {
 }
 
 void VelocityPidNode::on_progress(const path_progress_t& m, TimeUs now) {
+  if (!on_time(progress_fresh_, m.utime, now, "path_progress")) return;
   // Its contract: segment >= -1, n_waypoints >= 0, errors finite, distance to goal >= 0.
   if (checks::check(m) != nullptr) {
     reject(*bad_progress_);
     return;
   }
   progress_ = m;
-  progress_fresh_.mark(now);
+  progress_fresh_.mark(now, m.utime, clock_offset());
 }
 
 void VelocityPidNode::on_allocation(const allocation_status_t& m, TimeUs now) {
+  if (!on_time(alloc_fresh_, m.utime, now, "allocation")) return;
   if (checks::check(m) != nullptr) {  // unknown source, NaN, scale outside [0, 1], ...
     reject(first_use(bad_allocation_, "rejected.allocation.invalid"));
     return;
   }
   alloc_ = m;
-  alloc_fresh_.mark(now);
+  alloc_fresh_.mark(now, m.utime, clock_offset());
 }
 
 void VelocityPidNode::on_station_wrench(const wrench_t& m, TimeUs now) {
+  if (!on_time(station_fresh_, m.utime, now, "wrench_station")) return;
   // Its contract (core/message_checks.hpp): a known source, each component within +-1e5 (a
   // 1e300 wrench would otherwise start the hand-over blend). Dropped: the last good one (or
   // none) stays in force. Non-finite under .nan, the rest under .range.
@@ -139,17 +146,18 @@ void VelocityPidNode::on_station_wrench(const wrench_t& m, TimeUs now) {
     return;
   }
   station_wrench_ = m;
-  station_fresh_.mark(now);
+  station_fresh_.mark(now, m.utime, clock_offset());
 }
 
 void VelocityPidNode::on_thruster_command(const thruster_command_t& m, TimeUs now) {
+  if (!on_time(command_fresh_, m.utime, now, "thruster_command")) return;
   if (checks::check(m) != nullptr) {  // unknown source or gate, commands out of [-1, 1]
     reject(first_use(bad_command_, "rejected.thruster_command.invalid"));
     return;
   }
   command_gate_ = m.gate;
   command_source_ = m.source;
-  command_fresh_.mark(now);
+  command_fresh_.mark(now, m.utime, clock_offset());
 }
 
 void VelocityPidNode::publish_wrench(TimeUs now, bool valid, double x, double y, double n) {

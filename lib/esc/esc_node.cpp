@@ -129,6 +129,7 @@ esc::StartReport EscNode::start(TimeUs now) {
 }
 
 void EscNode::on_command(const thruster_command_t& m, TimeUs now) {
+  if (!on_time(command_freshness_, m.utime, now, "command")) return;
   if (m.n_thrusters < 0 || m.n_thrusters > 16) {
     reject(*c_missing_);
     return;
@@ -183,7 +184,7 @@ void EscNode::on_command(const thruster_command_t& m, TimeUs now) {
   }
   arm_allowed_ = m.arm_allowed;
   if (!m.arm_allowed && hold_ != m.hold) hold_ = m.hold;
-  command_freshness_.mark(now);
+  command_freshness_.mark(now, m.utime, clock_offset());
   command_fresh_ = true;
   // A changed command goes out at once (armed only: disarmed, the cycle's neutral is all there
   // is to send). An unchanged one (the mixer's fixed-rate repeats) waits for the cycle, so it
@@ -218,6 +219,16 @@ void EscNode::on_arm_request(const arm_request_t& m, TimeUs now) {
     return;
   }
   if (armed_) {
+    publish_arm_state(now);
+    return;
+  }
+  // An arm request is an event: one that waited (in the queue of a stopped process, say) is
+  // refused, counted in rejected.arm_request.stale / .future. A disarm is always taken.
+  if (!on_time(m.utime, now, kEventMaxAgeUs, "arm_request")) {
+    char buf[64];
+    std::snprintf(buf, sizeof buf, "%+.3f s", to_seconds(m.utime - now));
+    arm_.reason = "arm refused (asked by " + who + "): the request is stamped " + buf +
+                  " from this clock (stale or a clock out of step)";
     publish_arm_state(now);
     return;
   }

@@ -116,6 +116,7 @@ void PathFollowerNode::start_pending_path() {
 }
 
 void PathFollowerNode::on_odometry(const odometry_t& m, TimeUs now) {
+  if (!on_time(odom_fresh_, m.utime, now, "odometry")) return;
   // The whole message against its contract (core/message_checks.hpp): non-finite values count
   // under rejected.odometry.nan, the rest (angles out of range, covariance size) under .range.
   if (const char* why = checks::check(m)) {
@@ -131,7 +132,7 @@ void PathFollowerNode::on_odometry(const odometry_t& m, TimeUs now) {
   pos_ = Vec2(m.position[0], m.position[1]);
   heading_ = wrap_pi(m.orientation[2]);
   odom_time_ = m.utime;
-  odom_fresh_.mark(now);
+  odom_fresh_.mark(now, m.utime, clock_offset());
   if (pending_) start_pending_path();
 }
 

@@ -145,6 +145,7 @@ LaunchFile load_launch(const config::Value& root, const std::string& file_dir) {
   if (root.has("key_file")) lf.key_file_line = root.at("key_file").line();
   lf.require_signed = root.boolean_or("require_signed", false);
   lf.auth_window_s = root.number_or("auth_window_s", 1.0, {0.001, 3600.0});
+  lf.clock_offset_s = root.number_or("clock_offset_s", 0.25, {0.0, 10.0});
   lf.create_key = root.boolean_or("create_key", false);
   if (lf.require_signed && lf.key_file.empty())
     root.at("require_signed").fail("key_file: FILE as well (require_signed needs a key)");

@@ -13,6 +13,8 @@
 //                               # children get it as TILLER_KEY_FILE (docs/safety.md)
 //   require_signed: true        # children refuse unsigned input (TILLER_REQUIRE_SIGNED=1)
 //   auth_window_s: 1            # replay window (TILLER_AUTH_WINDOW_S)
+//   clock_offset_s: 0.25        # bound on clock offset between computers allowed on a
+//                               # message's utime (TILLER_CLOCK_OFFSET_S; docs/safety.md)
 //   create_key: false           # true (simulator files only): make key_file if it is missing
 //   liveness_s: 3               # every process's default liveness_s (docs/safety.md)
 //   processes:
@@ -115,6 +117,7 @@ struct LaunchFile {
   std::string key_file;
   bool require_signed = false;
   double auth_window_s = 1.0;
+  double clock_offset_s = 0.25;  // core/time.hpp kDefaultClockOffsetUs
   bool create_key = false;
   int key_file_line = 0;
   double liveness_s = 3.0;             // every process's default liveness_s

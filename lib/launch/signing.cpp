@@ -27,6 +27,9 @@ std::map<std::string, std::string> signing_env(const LaunchFile& lf,
   // std::string::assign for the latter (GCC bugs 105329 / 105651).
   env.emplace("TILLER_AUTH_WINDOW_S", window);
   env.emplace("TILLER_REQUIRE_SIGNED", lf.require_signed ? "1" : "0");
+  char clock[32];
+  std::snprintf(clock, sizeof clock, "%.6g", lf.clock_offset_s);
+  env.emplace("TILLER_CLOCK_OFFSET_S", clock);
   if (key.empty()) return env;  // no signing in this run (require_signed needs a key_file)
   if (key[0] != '/') key = (fs::path(lf.root) / key).lexically_normal().string();
   try {

@@ -1,7 +1,8 @@
 // The launch file's message-signing settings (key_file, require_signed, auth_window_s,
-// create_key) turned into what every child process gets: TILLER_KEY_FILE (absolute),
-// TILLER_REQUIRE_SIGNED (1 or 0) and TILLER_AUTH_WINDOW_S, which runtime/app.hpp reads as the
-// defaults of --key-file / --require-signed / --auth-window-s. See docs/safety.md.
+// create_key) and clock_offset_s turned into what every child process gets: TILLER_KEY_FILE
+// (absolute), TILLER_REQUIRE_SIGNED (1 or 0), TILLER_AUTH_WINDOW_S and TILLER_CLOCK_OFFSET_S,
+// which runtime/app.hpp reads as the defaults of --key-file / --require-signed /
+// --auth-window-s / --clock-offset-s. See docs/safety.md.
 #pragma once
 
 #include <map>

@@ -143,6 +143,7 @@ std::int8_t MixerNode::source_now(TimeUs now) {
 // New input publishes at once only when it is the active source's: the command rate stays the
 // active source's rate (plus the fixed rate), whatever the other feeds do.
 void MixerNode::on_manual(const manual_demand_t& m, TimeUs now) {
+  if (!on_time(manual_fresh_, m.utime, now, "manual_demand")) return;
   if (!all_in_range(m.demand, -1.0, 1.0)) {
     manual_fresh_.reset();
     reject(*rej_manual_);
@@ -150,12 +151,15 @@ void MixerNode::on_manual(const manual_demand_t& m, TimeUs now) {
     manual_fresh_.reset();  // the teleop says: nothing to say -> absent
   } else {
     for (int i = 0; i < 6; ++i) manual_(i) = m.demand[i];
-    manual_fresh_.mark(now);
+    manual_fresh_.mark(now, m.utime, clock_offset());
   }
   if (p_.publish_every_input || source_now(now) == wrench_t::SOURCE_MANUAL_DEMAND) output(now);
 }
 
 void MixerNode::on_wrench(WrenchInput& in, std::int8_t source, const wrench_t& m, TimeUs now) {
+  if (!on_time(in.fresh, m.utime, now,
+               source == wrench_t::SOURCE_VELOCITY_PID ? "wrench_velocity" : "wrench_station"))
+    return;
   if (checks::check(m) != nullptr) {  // unknown source, NaN, beyond +-1e5
     in.fresh.reset();
     reject(*rej_wrench_);
@@ -163,7 +167,7 @@ void MixerNode::on_wrench(WrenchInput& in, std::int8_t source, const wrench_t& m
     in.fresh.reset();
   } else {
     for (int i = 0; i < 6; ++i) in.tau(i) = m.tau[i];
-    in.fresh.mark(now);
+    in.fresh.mark(now, m.utime, clock_offset());
   }
   if (p_.publish_every_input || source_now(now) == source) output(now);
 }
@@ -181,6 +185,7 @@ void MixerNode::on_arbitration(const arbitration_t& m, TimeUs now) {
   // A refused arbitration (unknown source or mode) is dropped: the last good one stays in force
   // until it is stale. Making it absent would hand the thrusters to fallback_source (often the
   // pilot's stick) on one bad packet.
+  if (!on_time(arb_fresh_, m.utime, now, "arbitration")) return;
   if (const char* why = checks::check(m)) {
     if (std::string_view(why) == "mode.unknown" && rej_arb_mode_ == nullptr)
       rej_arb_mode_ = &counter("rejected.arbitration.mode");  // on first use
@@ -190,11 +195,12 @@ void MixerNode::on_arbitration(const arbitration_t& m, TimeUs now) {
   const std::int8_t before = source_now(now);
   arb_source_ = m.active_source;
   arb_mode_ = m.mode;
-  arb_fresh_.mark(now);
+  arb_fresh_.mark(now, m.utime, clock_offset());
   if (p_.publish_every_input || source_now(now) != before) output(now);
 }
 
 void MixerNode::on_arm_state(const arm_state_t& m, TimeUs now) {
+  if (!on_time(arm_fresh_, m.utime, now, "arm_state")) return;
   if (checks::check(m) != nullptr) {
     reject(counter("rejected.arm_state.invalid"));  // made on first use
     return;
@@ -202,11 +208,13 @@ void MixerNode::on_arm_state(const arm_state_t& m, TimeUs now) {
   const bool before = armed_ && arm_fresh_.fresh(now);
   armed_ = m.armed;
   session_ = m.session;
-  arm_fresh_.mark(now);
+  arm_fresh_.mark(now, m.utime, clock_offset());
   if (p_.publish_every_input || (armed_ && arm_fresh_.fresh(now)) != before) output(now);
 }
 
 void MixerNode::on_mission_command(const mission_command_t& m, TimeUs now) {
+  // An operator's go is an event: one that waited in a stopped process's queue is too late.
+  if (!on_time(m.utime, now, kEventMaxAgeUs, "mission_command")) return;
   if (checks::check(m) != nullptr) {
     reject(*rej_mission_);
     return;

@@ -114,10 +114,11 @@ std::string resolve_path(const std::string& path) {
 }
 
 namespace {
-// --key-file / --require-signed / --auth-window-s, or their variables: the signing policy.
+// --key-file / --require-signed / --auth-window-s / --clock-offset-s, or their variables: the
+// signing policy and the clock offset bound on message stamps.
 // A bad value or key file is a start-up error (exit 2) naming it.
 void load_auth(Args& a, const Spec& spec, const std::string& key_file, const std::string& require,
-               const std::string& window) {
+               const std::string& window, const std::string& clock_offset) {
   auto fail = [&](const std::string& msg) {
     std::cerr << spec.program << ": " << msg << "\n";
     std::exit(2);
@@ -139,6 +140,18 @@ void load_auth(Args& a, const Spec& spec, const std::string& key_file, const std
           "got '" +
           window + "'");
     a.auth.window_us = static_cast<std::int64_t>(w * 1e6);
+  }
+  if (!clock_offset.empty()) {
+    double c = NAN;
+    const auto [p, ec] =
+        std::from_chars(clock_offset.data(), clock_offset.data() + clock_offset.size(), c);
+    if (ec != std::errc() || p != clock_offset.data() + clock_offset.size() || !std::isfinite(c) ||
+        c < 0 || c > 10)
+      fail(
+          "--clock-offset-s / TILLER_CLOCK_OFFSET_S: expected a number of seconds in [0, 10], "
+          "got '" +
+          clock_offset + "'");
+    a.auth.clock_offset_us = static_cast<std::int64_t>(c * 1e6 + 0.5);
   }
   if (!key_file.empty()) {
     try {
@@ -226,6 +239,7 @@ Args parse(int argc, char** argv, const Spec& spec) {
   std::string key_file = env_or_empty("TILLER_KEY_FILE");
   std::string require = env_or_empty("TILLER_REQUIRE_SIGNED");
   std::string window = env_or_empty("TILLER_AUTH_WINDOW_S");
+  std::string clock_offset = env_or_empty("TILLER_CLOCK_OFFSET_S");
   std::string rt_priority;
   bool rt_lock = false, rt_required = false;
   for (int i = 1; i < argc; ++i) {
@@ -256,11 +270,13 @@ Args parse(int argc, char** argv, const Spec& spec) {
       a.lcm_url = take();
       if (const std::string why = lcm_url_problem(a.lcm_url); !why.empty())
         bad("--lcm-url: expected " + why);
-    } else if (s == "--key-file" || s == "--require-signed" || s == "--auth-window-s") {
+    } else if (s == "--key-file" || s == "--require-signed" || s == "--auth-window-s" ||
+               s == "--clock-offset-s") {
       if (!spec.takes_lcm_url) bad(s + " is not taken: " + spec.program + " opens no LCM");
       if (s == "--key-file") key_file = take();
       if (s == "--require-signed") require = has_value ? value : "1";
       if (s == "--auth-window-s") window = take();
+      if (s == "--clock-offset-s") clock_offset = take();
     } else if (s == "--realtime-priority" || s == "--lock-memory" || s == "--realtime-required") {
       if (!spec.takes_lcm_url || !spec.takes_realtime)
         bad(s + " is not taken: " + spec.program + " runs no real-time loop of its own");
@@ -282,7 +298,7 @@ Args parse(int argc, char** argv, const Spec& spec) {
   }
   if (const std::string extra = extra_positional(spec, a.positional); !extra.empty()) bad(extra);
   a.config = resolve_path(a.config);
-  if (spec.takes_lcm_url) load_auth(a, spec, key_file, require, window);
+  if (spec.takes_lcm_url) load_auth(a, spec, key_file, require, window, clock_offset);
   if (spec.takes_lcm_url && spec.takes_realtime)
     apply_realtime(spec, rt_priority, rt_lock, rt_required);
   return a;

@@ -18,7 +18,10 @@
 //                        missing, malformed or group/world-readable file is exit 2 naming it
 //   --require-signed     refuse unsigned input (default: $TILLER_REQUIRE_SIGNED = 1/true/0/false)
 //   --auth-window-s S    replay window (default: $TILLER_AUTH_WINDOW_S, else 1)
-// tiller-launch sets the three variables from the launch file for every process.
+// and, for every message's own utime (docs/safety.md, "Stalls and liveness"),
+//   --clock-offset-s S   bound on the offset between this computer's clock and its senders'
+//                        (default: $TILLER_CLOCK_OFFSET_S, else 0.25; [0, 10])
+// tiller-launch sets the four variables from the launch file for every process.
 //
 // Real time (runtime/realtime.hpp, docs/operations.md "Real time"): such a program also takes
 //   --realtime-priority N   SCHED_FIFO priority 1..99

@@ -91,6 +91,7 @@ void LiveExecutor::add(Node& node) {
   buses_.push_back(
       std::make_unique<LcmBus>(lcm_->getUnderlyingLCM(), verifier_.policy(), node.name()));
   node.attach(buses_.back().get());
+  node.set_clock_offset(verifier_.policy().clock_offset_us);
   nodes_.push_back(&node);
   // The node's refusal counters, made now so that receiving allocates nothing.
   NodeAuth na;

@@ -2,6 +2,7 @@
 
 #include <algorithm>
 #include <cctype>
+#include <cstdio>
 #include <exception>
 #include <stdexcept>
 
@@ -184,6 +185,20 @@ TimeUs Node::next_tick_at_or_after(TimeUs t) const {
 
 std::int64_t& Node::counter(const std::string& name) {
   return counters_[name];
+}
+
+bool Node::on_time(TimeUs utime, TimeUs now, TimeUs limit, std::string_view input) {
+  const Arrival a = arrival_of(now, utime, limit, clock_offset_);
+  if (a == Arrival::kAccepted) return true;
+  // The name is built in place and looked up without a std::string: a burst of refused
+  // messages (a resumed process's queue) allocates only for the first of each kind.
+  char name[96];
+  const int n = std::snprintf(name, sizeof name, "rejected.%.*s.%s", static_cast<int>(input.size()),
+                              input.data(), a == Arrival::kStale ? "stale" : "future");
+  const std::string_view key(name, static_cast<std::size_t>(std::clamp(n, 0, 95)));
+  auto it = counters_.find(key);
+  if (it == counters_.end()) it = counters_.emplace(std::string(key), 0).first;
+  return reject(it->second);
 }
 
 std::int64_t Node::counter_value(const std::string& name) const {

@@ -28,6 +28,7 @@
 #pragma once
 
 #include <cstdint>
+#include <functional>
 #include <map>
 #include <memory>
 #include <string>
@@ -103,6 +104,11 @@ class Node {
   TimeUs next_tick_at_or_after(TimeUs t) const;
   // Called once by the live executor on SIGINT/SIGTERM before exit (e.g. ESCs to neutral).
   virtual void shutdown(TimeUs now) { (void)now; }
+  // Executor side: the bound on the offset between this process's clock and its senders'
+  // (core/time.hpp kDefaultClockOffsetUs unless the process was given another) that
+  // on_time allows on a message's utime.
+  void set_clock_offset(TimeUs us) { clock_offset_ = us; }
+  TimeUs clock_offset() const { return clock_offset_; }
 
   // ---- counters (for tests and heartbeats)
   std::int64_t received() const { return received_; }
@@ -146,6 +152,18 @@ class Node {
     ++reason;
     ++rejected_;
     return false;
+  }
+  // True when a message stamped `utime` by its sender's clock and received at `now` is on time
+  // for an input whose freshness limit is `limit`: not older than limit + clock_offset() and not
+  // more than clock_offset() ahead of `now` (core/time.hpp arrival_of). Else it counts the
+  // message in "rejected.<input>.stale" or "rejected.<input>.future" (made on first use) and
+  // returns false, and the handler drops the message before it changes anything:
+  //   if (!on_time(odom_fresh_, m.utime, now, "odometry")) return;
+  //   ... checks, copy ...
+  //   odom_fresh_.mark(now, m.utime, clock_offset());
+  bool on_time(TimeUs utime, TimeUs now, TimeUs limit, std::string_view input);
+  bool on_time(const Freshness& f, TimeUs utime, TimeUs now, std::string_view input) {
+    return on_time(utime, now, f.limit(), input);
   }
   // Counts an input going stale (see core/time.hpp Freshness).
   void count_stale(std::int64_t n = 1) { stale_ += n; }
@@ -205,7 +223,8 @@ class Node {
   std::vector<std::unique_ptr<SubscriptionBase>> subs_;
   std::vector<Advert> adverts_;
   std::vector<std::pair<std::string, std::int64_t*>> unadvertised_;
-  std::map<std::string, std::int64_t> counters_;
+  std::map<std::string, std::int64_t, std::less<>> counters_;
+  TimeUs clock_offset_ = kDefaultClockOffsetUs;
   std::int64_t* exception_message_ = nullptr;
   std::int64_t* exception_tick_ = nullptr;
   std::int64_t* ticks_missed_ = nullptr;

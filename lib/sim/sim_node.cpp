@@ -219,6 +219,7 @@ bool SimNode::motor_command(std::int8_t unit, std::int32_t value, double& out) c
 }
 
 void SimNode::on_esc_output(const esc_output_t& m, TimeUs now) {
+  if (!on_time(esc_fresh_, m.utime, now, "esc_output")) return;
   const int n = m.n_channels;
   if (n < 0 || n > sim::kMaxThrusters || static_cast<int>(m.names.size()) != n ||
       static_cast<int>(m.value.size()) != n) {
@@ -256,7 +257,7 @@ void SimNode::on_esc_output(const esc_output_t& m, TimeUs now) {
     esc_fresh_.set_limit(m.unit == esc_output_t::UNIT_THROTTLE_INT16 ? SimParams::kTgyHoldUs
                                                                      : SimParams::kForeverUs);
   }
-  esc_fresh_.mark(now);
+  esc_fresh_.mark(now, m.utime, clock_offset());
 }
 
 void SimNode::on_tick(TimeUs now) {

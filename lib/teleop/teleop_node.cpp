@@ -80,6 +80,7 @@ void TeleopNode::on_joystick(const joystick_state_t& s, TimeUs now) {
 void TeleopNode::on_odometry(const odometry_t& o, TimeUs now) {
   // The whole message is checked against its contract (core/message_checks.hpp), not only the
   // yaw: non-finite values count under rejected.odometry.nan, the rest under .range.
+  if (!on_time(odom_fresh_, o.utime, now, "odometry")) return;
   if (const char* why = checks::check(o)) {
     if (std::string_view(why).ends_with(".nan")) {
       reject(*rejected_odom_);
@@ -90,17 +91,18 @@ void TeleopNode::on_odometry(const odometry_t& o, TimeUs now) {
     return;
   }
   heading_ = o.orientation[2];  // in (-pi, pi] by the check
-  odom_fresh_.mark(now);
+  odom_fresh_.mark(now, o.utime, clock_offset());
 }
 
 void TeleopNode::on_arm_state(const arm_state_t& a, TimeUs now) {
+  if (!on_time(arm_fresh_, a.utime, now, "arm_state")) return;
   if (checks::check(a) != nullptr) {
     reject(counter("rejected.arm_state.invalid"));  // made on first use
     return;
   }
   armed_ = a.armed;
   arm_known_ = true;
-  arm_fresh_.mark(now);
+  arm_fresh_.mark(now, a.utime, clock_offset());
   if ((armed_ ? 1 : 0) != arm_shown_) update_health();
 }
 

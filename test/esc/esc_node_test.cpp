@@ -76,6 +76,45 @@ TEST(EscNode, ArmsWithNoCommandAtAll) {
   EXPECT_TRUE(r.node->armed());
 }
 
+// A message's own utime (docs/safety.md, "Stale by its own time stamp"): an arm request that
+// waited more than 1 s + the clock offset bound (in a stopped process's queue, say) is refused
+// with the reason on TILLER_ARM_STATE; a disarm is always taken; a thruster command older than
+// the command timeout + the bound by its utime is dropped and counted, and refreshes nothing.
+TEST(EscNode, RefusesAnArmRequestOrACommandTooOldByItsUtime) {
+  Rig r(sim_yaml());
+  r.run_until(3'000'000);
+  arm_request_t a{};
+  a.arm = true;
+  a.source = "teleop";
+  a.utime = 3'000'000 - kEventMaxAgeUs - kDefaultClockOffsetUs - 1;
+  r.send(channels::kArmRequest, a);
+  EXPECT_FALSE(r.node->armed());
+  EXPECT_EQ(r.node->counter_value("rejected.arm_request.stale"), 1);
+  const auto st = r.cap.last<arm_state_t>(channels::kArmState);
+  EXPECT_NE(st.reason.find("stamped -1.250 s"), std::string::npos) << st.reason;
+  a.utime += 1;  // exactly 1 s + the bound old: taken
+  r.send(channels::kArmRequest, a);
+  EXPECT_TRUE(r.node->armed());
+
+  // A command 0.25 s (timeout) + 0.25 s (bound) + 1 us old by its utime: dropped, not written.
+  thruster_command_t m{};
+  m.armed = true;
+  m.arm_allowed = true;
+  m.n_thrusters = 4;
+  m.names = kRov4;
+  m.command = {0.5, 0.5, 0.5, 0.5};
+  m.utime = 3'000'000 - 500'001;
+  r.send(channels::kThrusterCommand, m);
+  EXPECT_EQ(r.node->counter_value("rejected.command.stale"), 1);
+  r.run_until(3'010'000);
+  for (int i = 0; i < 4; ++i) EXPECT_EQ(r.output().value[i], 0);
+
+  a.arm = false;  // a disarm, however old, is taken
+  a.utime = 0;
+  r.send(channels::kArmRequest, a);
+  EXPECT_FALSE(r.node->armed());
+}
+
 TEST(EscNode, MapsCommandsByNameNotPosition) {
   Rig r(sim_yaml("disarm_on_timeout: false\n"));
   r.arm(true);

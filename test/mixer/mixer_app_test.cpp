@@ -22,6 +22,7 @@
 #include <tiller/thruster_command_t.hpp>
 
 #include "runtime/channels.hpp"
+#include "runtime/live.hpp"
 
 namespace tiller {
 namespace {
@@ -104,10 +105,12 @@ TEST(MixerApp, FollowsTheStickOnceArmedOverLcm) {
   int feeds = 0;
   auto feed = [&] {
     arm_state_t a{};
+    a.utime = wall_time_us();  // stamped as a sender does: an unstamped message is stale
     a.armed = true;
     a.reason = "test";
     l.publish(channels::kArmState, &a);
     manual_demand_t m{};
+    m.utime = wall_time_us();
     m.demand[0] = ++feeds > 5 ? 0.5 : 0.0;
     m.valid = true;
     l.publish(channels::kManualDemand, &m);

@@ -179,6 +179,74 @@ TEST_F(MixerTest, StaleInputsBecomeNeutral) {
   EXPECT_TRUE(neutral(seen.back().cmd));
 }
 
+// Issue 12, finding 5, in the node: a mixer stopped (SIGSTOP) from 0.2 s to 4.2 s receives its
+// queued input at 4.2 s (the live executor tells a message its receive time): an arm state, a
+// centred stick, a push forward, another arm state, all stamped 0.25-0.4 s by their senders.
+// Taken at their receive time they would meet the gate's centring condition and move the
+// thrusters; by their utimes they are 3.8 s old and each is refused, counted and changes
+// nothing. Then the first tick finds every input stale: neutral.
+TEST_F(MixerTest, QueuedInputOfAStoppedMixerIsRefusedByItsUtime) {
+  arm(100'000);
+  manual(110'000, 1.0, 0);
+  ex->run_until(200'000);
+  ASSERT_TRUE(seen.back().cmd.armed);
+  ASSERT_FALSE(neutral(seen.back().cmd));
+  const TimeUs resumed = 4'200'000;
+  auto acted_on = [&] {  // a command built now that is armed and off neutral
+    const thruster_command_t& c = node->last_command();
+    return c.utime == resumed && c.armed && !neutral(c);
+  };
+  arm_state_t a{};
+  a.armed = true;
+  a.session = 1;
+  manual_demand_t m{};
+  m.valid = true;
+  a.utime = 250'000;
+  node->on_arm_state(a, resumed);
+  EXPECT_FALSE(acted_on());
+  m.utime = 300'000;  // centred
+  node->on_manual(m, resumed);
+  EXPECT_FALSE(acted_on());
+  m.utime = 350'000;
+  m.demand[0] = 1.0;  // pushed forward again
+  node->on_manual(m, resumed);
+  EXPECT_FALSE(acted_on());
+  a.utime = 400'000;
+  node->on_arm_state(a, resumed);
+  EXPECT_FALSE(acted_on());
+  EXPECT_EQ(node->counter_value("rejected.arm_state.stale"), 2);
+  EXPECT_EQ(node->counter_value("rejected.manual_demand.stale"), 2);
+  node->tick(resumed);
+  EXPECT_EQ(node->last_command().utime, resumed);
+  EXPECT_FALSE(node->last_command().armed);
+  EXPECT_TRUE(neutral(node->last_command()));
+  // A fresh arm state and a fresh push (stamped now): armed, but the gate wants a fresh centring.
+  a.utime = resumed;
+  node->on_arm_state(a, resumed);
+  m.utime = resumed;
+  node->on_manual(m, resumed);
+  EXPECT_TRUE(neutral(node->last_command()));
+  EXPECT_EQ(node->gate_state(), safety::GateState::kWaitNeutral);
+}
+
+TEST_F(MixerTest, AMessageFromTheFutureIsRefused) {
+  arm(100'000);
+  ex->run_until(200'000);
+  manual_demand_t m{};
+  m.valid = true;
+  m.demand[0] = 1.0;
+  m.utime = 200'000 + kDefaultClockOffsetUs + 1;  // a sender's clock 0.25 s + 1 us ahead
+  node->on_manual(m, 200'000);
+  EXPECT_EQ(node->counter_value("rejected.manual_demand.future"), 1);
+  EXPECT_TRUE(neutral(node->last_command()));
+  mission_command_t g{};
+  g.command = mission_command_t::START;
+  g.command_id = 99;
+  g.utime = 200'000 - kEventMaxAgeUs - kDefaultClockOffsetUs - 1;  // an operator's go, too late
+  node->on_mission_command(g, 200'000);
+  EXPECT_EQ(node->counter_value("rejected.mission_command.stale"), 1);
+}
+
 TEST_F(MixerTest, InvalidStickIsAbsentAndOutOfRangeIsCounted) {
   arm(0);
   manual(0, 0.5, 0);

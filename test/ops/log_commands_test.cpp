@@ -1,8 +1,10 @@
 // tiller-log's commands as library logic: wait (logtools/field_wait.hpp) meets after the value
 // has held for hold_s, restarts the hold when the value changes, times out with the last value,
 // prints progress every 10 s; csv refuses a --fields name that chooses nothing and lists the
-// channel's fields; fields prints each field of the first message.
+// channel's fields; fields prints each field of the first message; restamp (shift_times) moves
+// event times and every Tiller message's utime, and nothing else.
 #include <gtest/gtest.h>
+#include <tiller/odometry_t.hpp>
 #include <tiller/path_progress_t.hpp>
 
 #include <sstream>
@@ -83,6 +85,25 @@ TEST(LogCommands, CsvRefusesAnUnknownFieldAndFieldsListsTheFirstMessage) {
   EXPECT_EQ(out.str().rfind("TILLER_PATH_PROGRESS: path_progress_t\n  utime = 0\n", 0), 0u)
       << out.str();
   EXPECT_NE(out.str().find("  distance_to_goal = 2\n"), std::string::npos);
+}
+
+TEST(Restamp, ShiftsEventTimesAndTillerUtimesOnly) {
+  odometry_t o{};
+  o.utime = 1'000'000;
+  o.position[0] = 12.5;
+  std::vector<Event> events{
+      encode("TILLER_ODOMETRY", 1'000'100, o),
+      {"OTHER", 1'000'200, {1, 2, 3, 4, 5, 6, 7, 8, 9, 10, 11, 12, 13, 14, 15, 16}}};
+  const std::vector<std::uint8_t> other = events[1].data;
+  const TimeUs shift = 1'764'000'000'000'000 - 1'000'100;  // the log starts "now"
+  EXPECT_EQ(shift_times(events, shift), 1u);
+  EXPECT_EQ(events[0].time, 1'764'000'000'000'000);
+  EXPECT_EQ(events[1].time, 1'764'000'000'000'100);
+  odometry_t back{};
+  ASSERT_TRUE(decode(events[0], back));
+  EXPECT_EQ(back.utime, 1'000'000 + shift);
+  EXPECT_EQ(back.position[0], 12.5);
+  EXPECT_EQ(events[1].data, other);  // not a Tiller type: its bytes are kept
 }
 
 }  // namespace

@@ -1,10 +1,12 @@
 // A log played with the real lcm-logplayer (a client Tiller did not write) into running Tiller
-// processes: the first 12 s of the golden log's inputs to the simulator (TILLER_ESC_OUTPUT) and
-// the mixer (wrenches, arbitration, arm state, the operator's START) are played into a live
-// tiller-sim and tiller-mixer started by tiller-launch, with lcm-logger recording. Their live
-// answers must match the recorded ones within a tolerance: the simulated pose within 0.3 m and 5
-// deg of the recorded ground truth, and nearly every thruster command within 0.02 of a recorded
-// command published within 30 ms of it. Runs in a private network namespace (NETNS).
+// processes, restamped to now first by tiller-log restamp (nodes refuse messages whose own utime
+// is older than their freshness limit): the first 12 s of the golden log's inputs to the simulator
+// (TILLER_ESC_OUTPUT) and the mixer (wrenches, arbitration, arm state, the operator's START) are
+// played into a live tiller-sim and tiller-mixer started by tiller-launch, with lcm-logger
+// recording. Their live answers must match the recorded ones within a tolerance: the simulated pose
+// within 0.3 m and 5 deg of the recorded ground truth, and nearly every thruster command within
+// 0.02 of a recorded command published within 30 ms of it. Runs in a private network namespace
+// (NETNS).
 #include <gtest/gtest.h>
 
 #include <algorithm>
@@ -56,8 +58,12 @@ TEST(LogPlayer, LiveSimAndMixerRespondAsRecorded) {
       << "processes:\n"
       << "  - {name: sim, command: tiller-sim, args: [--config, test/data/golden/sim_otter.yaml]}\n"
       << "  - {name: mixer, command: tiller-mixer, args: [--config, config/mixer/otter.yaml]}\n"
-      << "  - {name: player, command: lcm-logplayer, args: [" << (dir / "clip.lcmlog").string()
-      << "], start_delay_s: 1.0}\n";
+      // The clip's utimes are the golden log's; every node refuses a message older than its
+      // freshness limit by its utime, so the clip is restamped to start now, just before playing.
+      << "  - {name: player, command: sh, args: [-c, \"" << TILLER_BIN_DIR << "/tiller-log restamp "
+      << (dir / "clip.lcmlog").string() << " " << (dir / "fresh.lcmlog").string()
+      << " && exec lcm-logplayer " << (dir / "fresh.lcmlog").string()
+      << "\"], start_delay_s: 1.0}\n";
   const std::string live_path = (dir / "live.lcmlog").string();
   const std::string cmd = std::string(TILLER_BIN_DIR) + "/tiller-launch " +
                           (dir / "run.yaml").string() + " --log-file " + live_path +
@@ -66,11 +72,17 @@ TEST(LogPlayer, LiveSimAndMixerRespondAsRecorded) {
   ASSERT_EQ(std::system(cmd.c_str()), 0) << std::ifstream(dir / "out.txt").rdbuf();
   const auto live = read_log(live_path);
 
-  // Map live times to log times with the first played message.
+  // Map live times to log times with the first played message (its bytes as recorded but for
+  // the restamped utime, bytes 8..15).
+  auto same_but_utime = [](const std::vector<std::uint8_t>& a, const std::vector<std::uint8_t>& b) {
+    if (a.size() != b.size() || a.size() < 16) return false;
+    return std::equal(a.begin(), a.begin() + 8, b.begin()) &&
+           std::equal(a.begin() + 16, a.end(), b.begin() + 16);
+  };
   TimeUs offset = 0;
   bool found = false;
   for (const auto& e : live) {
-    if (e.channel == clip.front().channel && e.data == clip.front().data) {
+    if (e.channel == clip.front().channel && same_but_utime(e.data, clip.front().data)) {
       offset = e.time - clip.front().time;
       found = true;
       break;

@@ -61,10 +61,12 @@ TEST(SimAllocation, SimNodeTickAndEscDeliveryAllocateNothing) {
     m.value.push_back(1650);
     m.normalized.push_back(0.3);
   }
-  const Event e = encode(channels::kEscOutput, 0, m);
+  Event e = encode(channels::kEscOutput, 0, m);
   const std::string channel = channels::kEscOutput;  // made once: the executors keep theirs
   TimeUs now = 0;
   auto cycle = [&] {
+    m.utime = now;  // stamped as tiller-esc does (re-encoded in place: the size is the same)
+    m.encode(e.data.data(), 0, static_cast<int>(e.data.size()));
     node.deliver(channel, e.data.data(), static_cast<int>(e.data.size()), now);
     node.tick(now);
     now += p.step_us;

@@ -24,6 +24,7 @@
 
 #include "core/angles.hpp"
 #include "runtime/channels.hpp"
+#include "runtime/live.hpp"
 
 namespace tiller {
 namespace {
@@ -114,7 +115,7 @@ void pump(lcm::LCM& lcm, double seconds, std::int32_t value) {
   auto next = start;
   while (std::chrono::steady_clock::now() - start < std::chrono::duration<double>(seconds)) {
     if (value >= 0 && std::chrono::steady_clock::now() >= next) {
-      const auto m = full_ahead(0, value);
+      const auto m = full_ahead(wall_time_us(), value);  // unstamped would be stale
       lcm.publish(channels::kEscOutput, &m);
       next += std::chrono::milliseconds(10);
     }
