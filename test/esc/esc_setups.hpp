@@ -76,6 +76,14 @@ struct Steady {
     node->tick(0);
     node->deliver(channels::kArmRequest, arm.data.data(), static_cast<int>(arm.data.size()), 0);
   }
+  // Writes `utime` into an encoded message in place (no allocation): LCM puts the 8-byte
+  // fingerprint first and then the fields in order, big-endian; utime is the first field.
+  static void set_utime(Event& e, TimeUs utime) {
+    for (int i = 0; i < 8; ++i) {
+      e.data[static_cast<std::size_t>(8 + i)] =
+          static_cast<std::uint8_t>(static_cast<std::uint64_t>(utime) >> (56 - 8 * i));
+    }
+  }
   // One bus cycle (10 ms at 100 Hz): the node's ticks every tick_period (2 ms with
   // write_on_command), a changed command arriving mid-cycle and written at once, and the tick on
   // the cycle's grid writing every ESC again and reading one ESC's telemetry.
@@ -87,7 +95,8 @@ struct Steady {
          t += node->tick_period()) {
       if (!delivered && t > start + cycle_period / 2) {
         now = start + cycle_period / 2 + 500;
-        const Event& c = (flip = !flip) ? command : command_b;
+        Event& c = (flip = !flip) ? command : command_b;
+        set_utime(c, now);  // fresh by its own time stamp too (the ESC refuses old utimes)
         node->deliver(c.channel, c.data.data(), static_cast<int>(c.data.size()), now);
         delivered = true;
       }
