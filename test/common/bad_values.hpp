@@ -78,6 +78,7 @@ template <>
 inline odometry_t good(const std::string&, TimeUs t, const InputContext&) {
   odometry_t m{};
   m.utime = t;
+  m.valid = odometry_t::VALID_ALL;
   m.position[0] = 0.5 * to_seconds(t);
   m.position[1] = 0.1;
   m.orientation[2] = 0.5;
@@ -328,6 +329,7 @@ inline std::vector<BadValue<odometry_t>> bad_values() {
       {"yaw 4 rad", kOR, [](odometry_t& m) { m.orientation[2] = 4.0; }},
       {"yaw -pi", kOR, [](odometry_t& m) { m.orientation[2] = -kTestPi; }},
       {"pitch 1.6 rad", kOR, [](odometry_t& m) { m.orientation[1] = 1.6; }},
+      {"unknown validity bit 32", kOR, [](odometry_t& m) { m.valid |= 32; }},
       {"pose covariance of 9", kOR,
        [](odometry_t& m) {
          m.n_pose_cov = 9;
