@@ -359,6 +359,7 @@ TEST(ClosedLoop, VelocityScaledAndHeadingHeld) {
   s.axes[1] = 0;
   r.feed(ms(10));
   odometry_t o{};
+  o.valid = odometry_t::VALID_ALL;
   o.orientation[2] = 1.0;
   r.node.deliver(channels::kOdometry, nullptr, 0, ms(15));  // malformed: counted, ignored
   auto deliver_odom = [&](double t) {
