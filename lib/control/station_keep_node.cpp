@@ -23,8 +23,8 @@ const std::string kRefused =
 const std::string kRefusedHolding =
     "position hold refused: odometry has no valid position and velocity: holding the last wrench";
 // What station keeping needs of an odometry message (odometry_t.valid).
-constexpr std::int32_t kNeeds =
-    odometry_t::VALID_POSITION | odometry_t::VALID_VELOCITY | odometry_t::VALID_ATTITUDE;
+constexpr std::int32_t kNeeds = int{odometry_t::VALID_POSITION} | int{odometry_t::VALID_VELOCITY} |
+                                int{odometry_t::VALID_ATTITUDE};
 const std::string kNoTarget = "idle: no target";
 const std::string kKeeping = "station keeping";
 const std::string kStandby = "standing by (not the active source)";

@@ -20,7 +20,7 @@ const std::string kInvalid = "odometry has no valid velocity and attitude: neutr
 const std::string kInvalidHolding =
     "odometry has no valid velocity and attitude: holding the last wrench";
 // What the velocity PID needs of an odometry message (odometry_t.valid): u v r and heading.
-constexpr std::int32_t kNeeds = odometry_t::VALID_VELOCITY | odometry_t::VALID_ATTITUDE;
+constexpr std::int32_t kNeeds = int{odometry_t::VALID_VELOCITY} | int{odometry_t::VALID_ATTITUDE};
 
 namespace {
 constexpr int kAxis[3] = {0, 1, 5};  // [X Y N] in tau / allocation_status_t arrays

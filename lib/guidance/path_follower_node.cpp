@@ -131,7 +131,7 @@ void PathFollowerNode::on_odometry(const odometry_t& m, TimeUs now) {
   }
   // Following needs the position and the heading (odometry_t.valid): without them the message
   // is not taken and the odometry goes stale (setpoint inactive).
-  constexpr std::int32_t needs = odometry_t::VALID_POSITION | odometry_t::VALID_ATTITUDE;
+  constexpr std::int32_t needs = int{odometry_t::VALID_POSITION} | int{odometry_t::VALID_ATTITUDE};
   if ((m.valid & needs) != needs) {
     if (!invalid_odometry_) invalid_odometry_ = &counter("odometry.invalid");
     ++*invalid_odometry_;

@@ -673,7 +673,7 @@ namespace {
 
 // An ROV's estimate without a position source (tiller-nav, gnss.enabled false): attitude and
 // depth valid, position and velocity not.
-constexpr std::int32_t kRovValid = odometry_t::VALID_ATTITUDE | odometry_t::VALID_DEPTH;
+constexpr std::int32_t kRovValid = int{odometry_t::VALID_ATTITUDE} | int{odometry_t::VALID_DEPTH};
 
 TEST(StationKeepNode, OdometryWithoutAValidPositionRefusesTheHoldWithAMessage) {
   auto p = load_station_keep_node_params(config::Value::load_file(kOtter));

@@ -343,7 +343,7 @@ TEST(PathFollowerNode, OdometryWithoutAValidPositionIsStale) {
   ex.inject(channels::kPath, path(7, {{0, 0}, {100, 0}}), 10'000);
   for (TimeUs t = 20'000; t < 2'000'000; t += 50'000) {
     odometry_t o = odom(t, 0.5 * to_seconds(t), 0, 0);
-    if (t >= 1'000'000) o.valid = odometry_t::VALID_ATTITUDE | odometry_t::VALID_DEPTH;
+    if (t >= 1'000'000) o.valid = int{odometry_t::VALID_ATTITUDE} | int{odometry_t::VALID_DEPTH};
     ex.inject(channels::kOdometry, o, t);
   }
   ex.run_until(900'000);

@@ -21,7 +21,7 @@ using namespace tiller;
 using namespace tiller::nav;
 
 void report_allocs(benchmark::State& state, long before) {
-  const double allocs = static_cast<double>(test::allocations() - before);
+  const double allocs = static_cast<double>(tiller::test::allocations() - before);
   state.counters["allocs"] = allocs / static_cast<double>(state.iterations());
   if (allocs > 0) state.SkipWithError("allocated");
 }
@@ -54,7 +54,7 @@ void BM_EkfPredict(benchmark::State& state) {
   m.pitch = -0.01;
   m.r = 0.05;
   int i = 0;
-  const long before = test::allocations();
+  const long before = tiller::test::allocations();
   for (auto _ : state) {
     f.predict(0.02, m);
     benchmark::DoNotOptimize(f.P().data());
@@ -69,7 +69,7 @@ void run_update(benchmark::State& state, Update&& update) {
   Ekf f = settled();
   const Ekf base = f;
   int i = 0;
-  const long before = test::allocations();
+  const long before = tiller::test::allocations();
   for (auto _ : state) {
     benchmark::DoNotOptimize(update(f, i));
     if ((++i & 1023) == 0) f = base;
@@ -130,13 +130,13 @@ struct Warm {
   }
   NullBus bus;
   NavNode node;
-  test::Synthetic syn;
+  nav::test::Synthetic syn;
   TimeUs t = 0;
 };
 
 void BM_NavNodeTick(benchmark::State& state) {
   Warm w;
-  const long before = test::allocations();
+  const long before = tiller::test::allocations();
   for (auto _ : state) {
     w.t += 20'000;
     w.node.tick(w.t);
@@ -148,7 +148,7 @@ BENCHMARK(BM_NavNodeTick);
 void BM_NavNodeGnss(benchmark::State& state) {
   Warm w;
   gnss_fix_t fix = w.syn.gnss(w.t);
-  const long before = test::allocations();
+  const long before = tiller::test::allocations();
   for (auto _ : state) {
     w.t += 200;  // the same fix, a little later each time (lag compensation included)
     fix.utime = w.t;
@@ -161,7 +161,7 @@ BENCHMARK(BM_NavNodeGnss);
 void BM_NavNodeImu(benchmark::State& state) {
   Warm w;
   imu_t m = w.syn.imu(w.t);
-  const long before = test::allocations();
+  const long before = tiller::test::allocations();
   for (auto _ : state) {
     w.t += 10'000;
     m.utime = w.t;
