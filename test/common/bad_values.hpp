@@ -27,12 +27,14 @@
 #include <tiller/heartbeat_t.hpp>
 #include <tiller/imu_t.hpp>
 #include <tiller/joystick_state_t.hpp>
+#include <tiller/leak_t.hpp>
 #include <tiller/manual_demand_t.hpp>
 #include <tiller/manual_velocity_cmd_t.hpp>
 #include <tiller/mission_command_t.hpp>
 #include <tiller/odometry_t.hpp>
 #include <tiller/path_progress_t.hpp>
 #include <tiller/path_t.hpp>
+#include <tiller/power_t.hpp>
 #include <tiller/pressure_t.hpp>
 #include <tiller/station_target_t.hpp>
 #include <tiller/thruster_command_t.hpp>
@@ -217,6 +219,31 @@ inline heartbeat_t good(const std::string& channel, TimeUs t, const InputContext
 }
 
 template <>
+inline power_t good(const std::string&, TimeUs t, const InputContext&) {
+  power_t m{};
+  m.utime = t;
+  m.voltage = 15.5;
+  m.current = 8.0;
+  m.power = 124.0;
+  m.consumed_charge = 0.1;
+  m.consumed_energy = 1.5;
+  m.monitor = "sim";
+  return m;
+}
+
+template <>
+inline leak_t good(const std::string&, TimeUs t, const InputContext&) {
+  leak_t m{};
+  m.utime = t;
+  m.n_probes = 2;
+  m.names = {"main_tube", "battery_tube"};
+  m.wet = {0, 0};
+  m.readable = {1, 1};
+  m.any_wet = false;
+  return m;
+}
+
+template <>
 inline vehicle_status_t good(const std::string&, TimeUs t, const InputContext&) {
   vehicle_status_t m{};
   m.utime = t;
@@ -313,6 +340,7 @@ template <>
 inline gnss_fix_t good(const std::string&, TimeUs t, const InputContext&) {
   gnss_fix_t m{};
   m.utime = t;
+  m.gnss_utime = 1'780'000'000'000'000 + t;
   m.fix_type = gnss_fix_t::FIX_3D;
   m.satellites = 10;
   m.latitude = 59.43 + 0.5 * to_seconds(t) / 111'300.0;
@@ -424,6 +452,7 @@ inline std::vector<BadValue<gnss_fix_t>> bad_values() {
       {"course 4 rad", kOR, [](gnss_fix_t& m) { m.course = 4.0; }},
       {"speed -1 m/s", kOR, [](gnss_fix_t& m) { m.speed = -1.0; }},
       {"position std NaN", kNF, [](gnss_fix_t& m) { m.position_std[0] = NAN; }},
+      {"position std -1", kOR, [](gnss_fix_t& m) { m.position_std[0] = -1; }},
       {"unknown fix type", kOR, [](gnss_fix_t& m) { m.fix_type = 9; }},
   };
 }
@@ -623,8 +652,35 @@ inline std::int64_t missing_kinds_hash<heartbeat_t>() {
 }
 
 template <>
+inline std::vector<BadValue<power_t>> bad_values() {
+  return {{"voltage NaN", kNF, [](power_t& m) { m.voltage = std::nan(""); }},
+          {"voltage 150", kOR, [](power_t& m) { m.voltage = 150; }},
+          {"current 1e300", kOR, [](power_t& m) { m.current = kHuge; }}};
+}
+template <>
+inline std::vector<BadValue<leak_t>> bad_values() {
+  return {{"n_probes 33", kOR,
+           [](leak_t& m) {
+             m.n_probes = 33;
+             m.names.assign(33, "p");
+             m.wet.assign(33, 0);
+             m.readable.assign(33, 1);
+           }},
+          {"unreadable dry", kOR, [](leak_t& m) { m.readable[1] = 0; }},
+          {"any_wet inconsistent", kOR, [](leak_t& m) { m.any_wet = true; }}};
+}
+template <>
+inline std::vector<MissingKind> missing_kinds<leak_t>() {
+  return {{kNF, "booleans, integers and text only"}};
+}
+template <>
+inline std::int64_t missing_kinds_hash<leak_t>() {
+  return static_cast<std::int64_t>(0x6192d0a14cf3160cULL);
+}
+
+template <>
 inline std::vector<BadValue<vehicle_status_t>> bad_values() {
-  return {{"action 9", kOR, [](vehicle_status_t& m) { m.action = 9; }},
+  return {{"action 8", kOR, [](vehicle_status_t& m) { m.action = 8; }},
           {"unknown event bit", kOR, [](vehicle_status_t& m) { m.active = 64; }},
           {"active not latched", kOR,
            [](vehicle_status_t& m) { m.active = vehicle_status_t::EVENT_GEOFENCE; }}};
@@ -796,7 +852,9 @@ inline std::vector<TypeInputs> all_type_inputs() {
           type_inputs<gnss_fix_t>(),
           type_inputs<imu_t>(),
           type_inputs<heading_t>(),
-          type_inputs<pressure_t>()};
+          type_inputs<pressure_t>(),
+          type_inputs<power_t>(),
+          type_inputs<leak_t>()};
 }
 
 }  // namespace tiller::test
