@@ -292,6 +292,7 @@ void SimNode::on_tick(TimeUs now) {
   sim::Environment env;
   env.wind = p_.wind_enabled;
   env.wind_ned = p_.wind.velocity_ned();
+  env.force_ned = disturbance_;
   for (std::int64_t k = 0; k < steps; ++k) {
     current_.step(dt);
     env.current_ned = current_.velocity_ned();

@@ -99,6 +99,9 @@ class SimNode : public Node {
   const sim::CurrentModel& current() const { return current_; }
   const Vehicle& vehicle() const { return vehicle_; }
   const SimParams& params() const { return p_; }
+  // An outside force on the vehicle (N, NED) from the next step on (tests' disturbances;
+  // underwater_6dof only). Zero by default.
+  void set_disturbance(const sim::Vector3& force_ned) { disturbance_ = force_ned; }
   // Thrust target (N, along each thruster's direction) from the last accepted ESC output.
   double commanded_thrust(int i) const { return commanded_[static_cast<std::size_t>(i)]; }
   bool esc_fresh() const { return esc_was_fresh_; }
@@ -115,6 +118,7 @@ class SimNode : public Node {
   sim::CurrentModel current_;
   sim::OdometryNoise noise_;
   bool surface_;
+  sim::Vector3 disturbance_ = sim::Vector3::Zero();
   Freshness esc_fresh_;
   bool esc_was_fresh_ = false;
   std::int64_t stale_seen_ = 0;
