@@ -1,6 +1,7 @@
 // tiller-rov-control: the ROV's pilot modes and their 6-DOF controller (TILLER_ARBITRATION,
 // TILLER_WRENCH_ROV; lib/control/rov_node.hpp). `--mode NAME` instead sends one mode request
 // (TILLER_MODE, signed like every message) and exits: the command path for the modes.
+// `--trust-position` takes odometry without a covariance as a valid position (the simulator's).
 #include <tiller/controller_mode_t.hpp>
 
 #include <iostream>
@@ -24,6 +25,9 @@ int main(int argc, char** argv) {
        {{"mode", "NAME",
          "send one mode request and exit: manual, stabilise, depth_hold, heading_hold, rate, "
          "surface or position_hold",
+         ""},
+        {"trust-position", "",
+         "odometry without a covariance carries a valid position (the simulator's is exact)",
          ""}}});
   return app::guarded_main("tiller-rov-control", [&] {
     const std::string name = args.get("mode");
@@ -48,7 +52,9 @@ int main(int argc, char** argv) {
                 << " (the reply, accepted or refused, is on TILLER_ARBITRATION)\n";
       return 0;
     }
-    control::RovControlNode node(control::load_rov_control_file(args.config));
+    control::RovControlParams p = control::load_rov_control_file(args.config);
+    if (args.flag("trust-position")) p.require_position_covariance = false;
+    control::RovControlNode node(p);
     LiveExecutor ex(args.lcm_url, args.auth);
     ex.add(node);
     return ex.run();

@@ -50,7 +50,7 @@ RovControlNode::RovControlNode(const RovControlParams& p, const Vehicle& vehicle
   range_odometry_ = &counter("rejected.odometry.range");
   bad_manual_ = &counter("rejected.manual_demand.invalid");
   bad_mode_ = &counter("rejected.mode.invalid");
-  unavailable_ = &counter("rejected.mode.unavailable");
+  unavailable_ = &counter("mode.refused");
   bad_allocation_ = &counter("rejected.allocation.invalid");
   bad_command_ = &counter("rejected.thruster_command.invalid");
   switches_ = &counter("mode.switches");
@@ -98,7 +98,7 @@ void RovControlNode::on_mode(const controller_mode_t& m, TimeUs now) {
     switch_to(m.mode, plan, now);
     return;
   }
-  reject(*unavailable_);
+  ++*unavailable_;  // a well-formed request the vehicle cannot fly: counted, not a bad message
   char buf[kReasonRoom];
   std::snprintf(buf, sizeof buf, "%s; still in %s", refusal_.c_str(), rov_mode_words(mode_));
   set_reason(buf);

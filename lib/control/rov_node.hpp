@@ -18,7 +18,7 @@
 // Requests: a TILLER_MODE is acted on when it differs from the previous request (the teleop
 // repeats its mode every second); a mode the layout cannot fly (the axes it needs are
 // unactuated in the vehicle's effectiveness matrix, or position hold without a valid position)
-// is refused: counted (rejected.mode.unavailable), the reason naming the axis in the heartbeat's
+// is refused: counted (mode.refused), the reason naming the axis in the heartbeat's
 // status and the arbitration's reason, the mode in force kept.
 // No thrust step on a switch: every switch blends the wrench in force (what the mixer achieved
 // with the stick, coming from manual; the last published wrench otherwise) into the new mode's

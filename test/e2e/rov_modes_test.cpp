@@ -197,7 +197,7 @@ TEST(RovModes, TheFourThrusterRovIsRefusedWhatNeedsHeaveRollOrPitch) {
     EXPECT_NE(r.rov.reason().find("refused"), std::string::npos) << r.rov.reason();
     EXPECT_EQ(r.f.mixer.active_source(), wrench_t::SOURCE_MANUAL_DEMAND);
   }
-  EXPECT_EQ(r.rov.counter_value("rejected.mode.unavailable"), 6);
+  EXPECT_EQ(r.rov.counter_value("mode.refused"), 6);
   std::printf("refused: %s\n", r.rov.reason().c_str());
   r.f.press(7);  // the preset's heading-hold button (base 8)
   r.run(100);

@@ -21,6 +21,7 @@
 #include "cockpit/cockpit_config.hpp"
 #include "cockpit/cockpit_node.hpp"
 #include "control/control_config.hpp"
+#include "control/rov_node.hpp"
 #include "control/station_keep_node.hpp"
 #include "control/velocity_pid_node.hpp"
 #include "core/config.hpp"
@@ -135,6 +136,9 @@ std::vector<Program> programs() {
       std::make_unique<control::VelocityPidNode>(control::load_velocity_pid_node_params(control)));
   add("tiller-station-keep",
       std::make_unique<control::StationKeepNode>(control::load_station_keep_node_params(control)));
+  add("tiller-rov-control",
+      std::make_unique<control::RovControlNode>(
+          control::load_rov_control_file(kRoot + "/config/control/seed001_rov6.yaml")));
   const auto guidance = config::Value::load_file(kRoot + "/config/guidance/default.yaml");
   add("tiller-path-follower",
       std::make_unique<guidance::PathFollowerNode>(guidance::load_follower_node_params(guidance)));
