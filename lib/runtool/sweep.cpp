@@ -57,7 +57,7 @@ std::string encode_row(const Row& r) {
   os << "ok " << r.completed << " " << r.xte_rms << " " << r.xte_max << " " << r.time_s << " "
      << r.final_m << " " << r.heading_rad << " " << r.vrx_way << " " << r.vrx_sk << " " << r.sim_s
      << " " << r.missed << " " << r.steady_rms << " " << r.overshoot << " " << r.max_setpoint << " "
-     << r.max_speed << " " << r.path_m << "\n";
+     << r.max_speed << " " << r.path_m << " " << r.final_30 << "\n";
   return os.str();
 }
 
@@ -69,7 +69,7 @@ Row decode_row(const std::string& text) {
   if (tag == "ok") {
     is >> r.completed >> r.xte_rms >> r.xte_max >> r.time_s >> r.final_m >> r.heading_rad >>
         r.vrx_way >> r.vrx_sk >> r.sim_s >> r.missed >> r.steady_rms >> r.overshoot >>
-        r.max_setpoint >> r.max_speed >> r.path_m;
+        r.max_setpoint >> r.max_speed >> r.path_m >> r.final_30;
     r.ok = !is.fail();
     if (!r.ok) r.error = "unreadable result '" + text + "'";
   } else if (tag == "error") {
@@ -231,6 +231,17 @@ Row row_of(const RunOutcome& o) {
     r.path_m += std::hypot(o.scores.path[k].north - o.scores.path[k - 1].north,
                            o.scores.path[k].east - o.scores.path[k - 1].east);
   }
+  if (o.completed && !o.scores.path.empty() && !o.scores.poses.empty()) {
+    const auto& g = o.scores.path.back();
+    const scores::Pose* at = &o.scores.poses.back();
+    for (const auto& q : o.scores.poses) {
+      if (q.t >= o.completed_at + 30) {
+        at = &q;
+        break;
+      }
+    }
+    r.final_30 = std::hypot(at->north - g.north, at->east - g.east);
+  }
   return r;
 }
 
@@ -386,7 +397,7 @@ std::string csv(const std::vector<Axis>& axes, const std::vector<Row>& rows) {
   for (const auto& a : axes) os << a.name << ",";
   os << "completed";
   for (const auto& m : kMetrics) os << "," << m.name;
-  os << ",missed,max_speed,path_m,sim_s,error\n";
+  os << ",missed,max_speed,path_m,sim_s,final_30,error\n";
   for (const auto& r : rows) {
     for (std::size_t k = 0; k < axes.size(); ++k) os << r.index[k] << ",";
     for (std::size_t k = 0; k < axes.size(); ++k)
@@ -402,9 +413,10 @@ std::string csv(const std::vector<Axis>& axes, const std::vector<Row>& rows) {
     }
     os << "," << (r.ok ? std::to_string(r.missed) : "NaN") << ",";
     if (r.ok)
-      os << r.max_speed << "," << r.path_m << "," << r.sim_s;
+      os << r.max_speed << "," << r.path_m << "," << r.sim_s << ","
+         << (r.final_30 >= 0 ? std::to_string(r.final_30) : "NaN");
     else
-      os << "NaN,NaN,NaN";
+      os << "NaN,NaN,NaN,NaN";
     os << ",";
     std::string e = r.error;
     for (char& c : e)
