@@ -42,6 +42,7 @@
 #include "sensors/power_node.hpp"
 #include "sensors/pressure_node.hpp"
 #include "sim/sim_node.hpp"
+#include "teleop/stick_script.hpp"
 #include "teleop/teleop_node.hpp"
 #include "teleop/teleop_params.hpp"
 
@@ -146,6 +147,8 @@ std::vector<Program> programs() {
   const auto teleop = load_teleop_file(kRoot + "/config/teleop/extreme3dpro_seed000.yaml");
   add("tiller-teleop", std::make_unique<TeleopNode>(teleop, TeleopNode::Input::device));
   add("tiller-teleop", std::make_unique<TeleopNode>(teleop, TeleopNode::Input::replay));
+  add("tiller-stick-script", std::make_unique<StickScriptNode>(
+                                 load_stick_script_file(kRoot + "/config/pilot/rov_demo.yaml")));
   const auto m = mission::load_mission_file(kRoot + "/config/missions/default.yaml");
   add("tiller-mission", std::make_unique<mission::MissionNode>(m, 1, kUsPerSecond));
   add("tiller-cockpit", std::make_unique<cockpit::CockpitNode>(

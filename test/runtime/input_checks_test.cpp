@@ -55,6 +55,7 @@
 #include "sensors/power_node.hpp"
 #include "sensors/pressure_node.hpp"
 #include "sim/sim_node.hpp"
+#include "teleop/stick_script.hpp"
 #include "teleop/teleop_node.hpp"
 #include "teleop/teleop_params.hpp"
 
@@ -186,6 +187,11 @@ std::vector<NodeCase> node_cases() {
                        return std::make_unique<TeleopNode>(load_teleop_file(f), in);
                      }});
     }
+  }
+  for (const auto& f : shipped("pilot")) {
+    out.push_back({"StickScriptNode", "tiller-stick-script " + rel(f), [f](InputContext&) {
+                     return std::make_unique<StickScriptNode>(load_stick_script_file(f));
+                   }});
   }
   for (const auto& f : shipped("sensors")) {
     if (fs::path(f).filename().string().rfind("pressure", 0) != 0) continue;
