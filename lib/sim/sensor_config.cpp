@@ -1,4 +1,4 @@
-// Loading a simulated sensors file (config/sim/sensors_*.yaml) into SensorParams: every key is
+// Loading a simulated sensors file (config/sim/sensors/*.yaml) into SensorParams: every key is
 // read and range-checked whether or not its sensor is enabled (a typo is refused either way).
 #include <cmath>
 #include <string>

@@ -1,5 +1,5 @@
 // The simulator's sensors together (tiller-sim publishes them when given a sensors file,
-// config/sim/sensors_*.yaml): each sensor's model (sensor_models.hpp) sampled on its own grid
+// config/sim/sensors/*.yaml): each sensor's model (sensor_models.hpp) sampled on its own grid
 // of simulated time (multiples of its period), each sample held for its latency, some lost to
 // dropouts, and published on the channel its real driver uses:
 //   TILLER_GNSS (and/or NMEA GGA/GSA/GST/RMC to a sink: the pty gpsd reads), TILLER_IMU,

@@ -73,7 +73,7 @@ std::vector<app::Option> sim_options() {
        "--current-speed",
        ""},
       {"sensors", "FILE",
-       "simulated sensors file (config/sim/sensors_usv.yaml, ...), or none (overrides the "
+       "simulated sensors file (config/sim/sensors/usv.yaml, ...), or none (overrides the "
        "config's sensors:)",
        ""},
       {"odometry", "MODE",

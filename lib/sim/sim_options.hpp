@@ -8,7 +8,7 @@
 //                                  without start: (a CSV one) leaves the config's pose
 //   --north M --east M --heading-deg DEG       the initial pose (NED m, deg)
 //   --current-speed M_S [--current-toward-deg DEG]   a constant current (replaces the config's)
-//   --sensors FILE|none            the simulated sensors (config/sim/sensors_*.yaml; none: off)
+//   --sensors FILE|none            the simulated sensors (config/sim/sensors/*.yaml; none: off)
 //   --odometry truth|estimated     TILLER_ODOMETRY from the model, or none (tiller-nav's job)
 //   --gnss-output lcm|nmea|both    TILLER_GNSS from the simulator and/or NMEA for gpsd
 //   --gnss-outage START_S:DURATION_S   no GNSS fix for that long (s after the start; repeatable

@@ -53,7 +53,7 @@ TEST(SimGpsd, TillerGnssFixesThroughGpsdAreTheSimulatorsWithinTheNoise) {
   p.vehicle_file = kSrc + "/config/vehicles/otter.yaml";
   p.initial_nu << 1.5, 0, 0, 0, 0, 0.05;  // gliding forward and turning: course and speed change
   p.initial_eta[5] = 0.5;
-  p.sensors = sim::load_sensor_file(kSrc + "/config/sim/sensors_usv.yaml", p.step_us);
+  p.sensors = sim::load_sensor_file(kSrc + "/config/sim/sensors/usv.yaml", p.step_us);
   p.sensors.gnss_lcm = p.sensors.gnss_nmea = true;
   SimNode sim(p, load_sim_vehicle_file(p.vehicle_file));
   Fixes simulated(channels::kGnss);

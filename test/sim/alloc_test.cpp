@@ -91,7 +91,7 @@ TEST(SimAllocation, SimulatedSensorsAllocateNothing) {
     SimParams p;
     p.vehicle_file = kSrc + (std::string(which) == "usv" ? "/config/vehicles/otter.yaml"
                                                          : "/config/vehicles/seed001_rov6.yaml");
-    p.sensors = sim::load_sensor_file(kSrc + "/config/sim/sensors_" + which + ".yaml", p.step_us);
+    p.sensors = sim::load_sensor_file(kSrc + "/config/sim/sensors/" + which + ".yaml", p.step_us);
     p.sensors.gnss_nmea = true;
     p.sensors.imu_timing.latency_us = 20'000;
     p.sensors.imu_timing.dropout_probability = 0.1;

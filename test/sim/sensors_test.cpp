@@ -250,7 +250,7 @@ Log run(const SensorParams& p, std::uint64_t seed, double seconds) {
 }
 
 TEST(SensorSuite, RatesLatencyOutagesAndLeaksFromTheUsvFileDeterministicBySeed) {
-  SensorParams p = file("sensors_usv.yaml");
+  SensorParams p = file("sensors/usv.yaml");
   p.imu_timing.latency_us = 30'000;
   p.gnss_outages.push_back({from_seconds(4), from_seconds(6)});
   p.leak.wet_after_s = 5;
@@ -277,7 +277,7 @@ TEST(SensorSuite, RatesLatencyOutagesAndLeaksFromTheUsvFileDeterministicBySeed) 
 }
 
 TEST(SensorSuite, DropoutsLoseAboutTheirShareAndAreCounted) {
-  SensorParams p = file("sensors_rov.yaml");
+  SensorParams p = file("sensors/rov.yaml");
   p.imu_timing.dropout_probability = 0.3;
   SensorSuite suite(p, 11);
   std::int64_t dropped[6] = {};
@@ -339,7 +339,7 @@ TEST(SimSensors, EstimatedOdometryPublishesNoOdometryButTheSensorsAndTheTruth) {
   SimParams p;
   p.vehicle_file = kSrc + "/config/vehicles/otter.yaml";
   p.publish_odometry = false;
-  p.sensors = file("sensors_usv.yaml");
+  p.sensors = file("sensors/usv.yaml");
   SimNode node(p, load_sim_vehicle_file(p.vehicle_file));
   LockstepExecutor ex(0);
   ex.add(node);
