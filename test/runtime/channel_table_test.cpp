@@ -25,6 +25,8 @@
 #include "control/velocity_pid_node.hpp"
 #include "core/config.hpp"
 #include "esc/esc_node.hpp"
+#include "failsafe/failsafe_config.hpp"
+#include "failsafe/failsafe_node.hpp"
 #include "guidance/follower_config.hpp"
 #include "guidance/path_follower_node.hpp"
 #include "i2c/fake_bus.hpp"
@@ -40,6 +42,7 @@
 #include "sensors/power_node.hpp"
 #include "sensors/pressure_node.hpp"
 #include "sim/sim_node.hpp"
+#include "teleop/stick_script.hpp"
 #include "teleop/teleop_node.hpp"
 #include "teleop/teleop_params.hpp"
 
@@ -144,6 +147,8 @@ std::vector<Program> programs() {
   const auto teleop = load_teleop_file(kRoot + "/config/teleop/extreme3dpro_seed000.yaml");
   add("tiller-teleop", std::make_unique<TeleopNode>(teleop, TeleopNode::Input::device));
   add("tiller-teleop", std::make_unique<TeleopNode>(teleop, TeleopNode::Input::replay));
+  add("tiller-stick-script", std::make_unique<StickScriptNode>(
+                                 load_stick_script_file(kRoot + "/config/pilot/rov_demo.yaml")));
   const auto m = mission::load_mission_file(kRoot + "/config/missions/default.yaml");
   add("tiller-mission", std::make_unique<mission::MissionNode>(m, 1, kUsPerSecond));
   add("tiller-cockpit", std::make_unique<cockpit::CockpitNode>(
@@ -162,6 +167,8 @@ std::vector<Program> programs() {
   add("tiller-power",
       std::make_unique<sensors::PowerNode>(
           sensors::load_power_file(kRoot + "/config/sensors/power_ina226.yaml"), i2c));
+  add("tiller-failsafe", std::make_unique<failsafe::FailsafeNode>(failsafe::load_failsafe_file(
+                             kRoot + "/config/failsafe/seed001_rov6.yaml")));
   static sensors::FakeGpio gpio;
   add("tiller-leak", std::make_unique<sensors::LeakNode>(
                          sensors::load_leak_file(kRoot + "/config/sensors/leak_gpio.yaml"), gpio));

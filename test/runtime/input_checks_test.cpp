@@ -36,6 +36,8 @@
 #include "control/velocity_pid_node.hpp"
 #include "core/config.hpp"
 #include "esc/esc_node.hpp"
+#include "failsafe/failsafe_config.hpp"
+#include "failsafe/failsafe_node.hpp"
 #include "guidance/follower_config.hpp"
 #include "guidance/path_follower_node.hpp"
 #include "i2c/fake_bus.hpp"
@@ -53,6 +55,7 @@
 #include "sensors/power_node.hpp"
 #include "sensors/pressure_node.hpp"
 #include "sim/sim_node.hpp"
+#include "teleop/stick_script.hpp"
 #include "teleop/teleop_node.hpp"
 #include "teleop/teleop_params.hpp"
 
@@ -185,6 +188,11 @@ std::vector<NodeCase> node_cases() {
                      }});
     }
   }
+  for (const auto& f : shipped("pilot")) {
+    out.push_back({"StickScriptNode", "tiller-stick-script " + rel(f), [f](InputContext&) {
+                     return std::make_unique<StickScriptNode>(load_stick_script_file(f));
+                   }});
+  }
   for (const auto& f : shipped("sensors")) {
     if (fs::path(f).filename().string().rfind("pressure", 0) != 0) continue;
     out.push_back({"PressureNode", "tiller-pressure " + rel(f), [f](InputContext&) {
@@ -231,6 +239,12 @@ std::vector<NodeCase> node_cases() {
   for (const auto& f : shipped("launch")) {
     out.push_back({"LaunchMonitor", "tiller-launch " + rel(f), [f](InputContext&) {
                      return std::make_unique<OwnedMonitor>(launch::load_launch_file(f).processes);
+                   }});
+  }
+  for (const auto& f : shipped("failsafe")) {
+    out.push_back({"FailsafeNode", "tiller-failsafe " + rel(f), [f](InputContext&) {
+                     return std::make_unique<failsafe::FailsafeNode>(
+                         failsafe::load_failsafe_file(f));
                    }});
   }
   for (const auto& f : shipped("missions")) {
