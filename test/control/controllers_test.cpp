@@ -285,6 +285,8 @@ TEST(StationPid, WeathervaneHasNoHardSwitches) {
 TEST(StationPid, WeathervaneIntegralUnwindsSideways) {
   auto p = sparams();  // x: ki 2, i_limit 5; y: kp 12, ki 2
   p.weathervane = true;
+  p.weathervane_min_force = 0;  // the heading follows any force: sway integrates at full weight
+  p.weathervane_full_force = 0;
   StationPid pid(p);
   StationPidInput in;
   in.target_n = 1;  // 1 m ahead, facing north
@@ -318,6 +320,27 @@ TEST(StationPid, WeathervaneIntegralUnwindsSideways) {
   EXPECT_DOUBLE_EQ(t.i[0], before[0]);
   EXPECT_DOUBLE_EQ(t.i[1], before[1]);
   EXPECT_TRUE(t.frozen[1]);
+}
+
+// Below weathervane_min_force the target heading holds and the sideways force is not produced:
+// the sideways error does not integrate (in still water it wound the integral up until the boat
+// turned across its target heading: VRX station keeping 0.73 instead of 0.17 over 120 s).
+TEST(StationPid, WeathervaneSidewaysIntegratesOnlyAsFarAsTheHeadingFollowsTheForce) {
+  auto p = sparams();  // y: kp 12, ki 2
+  p.weathervane = true;
+  p.weathervane_min_force = 5;
+  p.weathervane_full_force = 10;
+  StationPid pid(p);
+  StationPidInput in;
+  in.dt = 0.1;
+  in.target_e = 0.25;  // 3 N sideways: below the band
+  for (int k = 0; k < 100; ++k) EXPECT_DOUBLE_EQ(pid.step(in).i[1], 0.0);
+  pid.reset();
+  in.target_e = 0.625;  // 7.5 N: half way through the band, half weight
+  EXPECT_NEAR(pid.step(in).i[1], 0.5 * 2 * 0.625 * 0.1, 1e-12);
+  pid.reset();
+  in.target_e = 1.0;  // 12 N: full weight
+  EXPECT_NEAR(pid.step(in).i[1], 2 * 1.0 * 0.1, 1e-12);
 }
 
 TEST(StationPid, TermsAddUpToTheOutputInWeathervaneMode) {
