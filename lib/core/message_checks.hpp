@@ -73,10 +73,10 @@ inline bool heading(double a) {
   return std::isfinite(a) && a > -kPi && a <= kPi;
 }
 inline bool source(std::int8_t s) {
-  return s >= wrench_t::SOURCE_NONE && s <= wrench_t::SOURCE_STATION_KEEP;
+  return s >= wrench_t::SOURCE_NONE && s <= wrench_t::SOURCE_ROV_CONTROL;
 }
 inline bool mode(std::int8_t m) {
-  return m >= controller_mode_t::MANUAL_OPEN_LOOP && m <= controller_mode_t::WAYPOINTING;
+  return m >= controller_mode_t::MANUAL_OPEN_LOOP && m <= controller_mode_t::POSITION_HOLD;
 }
 // A 3x3 row-major covariance: finite, diagonal >= 0 (all zero: unknown).
 inline bool covariance3(const double (&c)[9]) {

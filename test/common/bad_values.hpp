@@ -123,6 +123,7 @@ inline wrench_t good(const std::string& channel, TimeUs t, const InputContext&) 
   wrench_t m{};
   m.utime = t;
   m.source = channel == channels::kWrenchStation ? wrench_t::SOURCE_STATION_KEEP
+             : channel == channels::kWrenchRov   ? wrench_t::SOURCE_ROV_CONTROL
                                                  : wrench_t::SOURCE_VELOCITY_PID;
   m.valid = true;
   m.tau[0] = 30.0;
@@ -553,7 +554,7 @@ inline std::vector<BadValue<allocation_status_t>> bad_values() {
 template <>
 inline std::vector<BadValue<arbitration_t>> bad_values() {
   return {
-      {"unknown mode", kOR, [](arbitration_t& m) { m.mode = 9; }},
+      {"unknown mode", kOR, [](arbitration_t& m) { m.mode = 42; }},
       {"unknown source", kOR, [](arbitration_t& m) { m.active_source = 42; }},
   };
 }
@@ -592,7 +593,7 @@ inline std::vector<BadValue<controller_mode_t>> bad_values() {
   return {
       {"unknown mode", kOR,
        [](controller_mode_t& m) {
-         m.mode = 7;
+         m.mode = 42;  // 0..8 are known (the ROV modes are 3..8)
          m.is_translation = true;
        }},
   };

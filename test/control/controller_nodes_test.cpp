@@ -515,7 +515,7 @@ TEST(VelocityPidNode, MalformedInputOfEachTypeIsDroppedCountedAndChangesNothing)
   cases.push_back({"manual velocity NaN",
                    man([](manual_velocity_cmd_t& m) { m.velocity[0] = NAN; }),
                    "rejected.manual.invalid"});
-  controller_mode_t bad_mode = mode(7);
+  controller_mode_t bad_mode = mode(42);  // past POSITION_HOLD (8)
   bad_mode.is_translation = true;
   cases.push_back({"mode unknown", bad(channels::kMode, bad_mode), "rejected.mode.invalid"});
   path_progress_t pr{};
