@@ -9,6 +9,17 @@ ArbiterDecision Arbiter::decide(const ArbiterInput& in) {
   ArbiterDecision d;
   d.mode = in.mode;
   if (in.mode != controller_mode_t::WAYPOINTING) had_path_ = false;
+  if (in.failsafe_hold) {
+    if (in.mode == controller_mode_t::WAYPOINTING && in.progress_fresh && in.path_active)
+      had_path_ = true;
+    d.source = p_.hold_position ? wrench_t::SOURCE_STATION_KEEP : wrench_t::SOURCE_NONE;
+    d.reason = p_.hold_position ? "failsafe: holding position (TILLER_VEHICLE_STATUS)"
+                                : "failsafe: hold asked, this vehicle cannot hold: neutral";
+    d.changed = d.source != last_source_ || d.reason != last_reason_;
+    last_source_ = d.source;
+    last_reason_ = d.reason;
+    return d;
+  }
   switch (in.mode) {
     case controller_mode_t::MANUAL_OPEN_LOOP:
       d.source = wrench_t::SOURCE_MANUAL_DEMAND;

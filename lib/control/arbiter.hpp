@@ -17,6 +17,9 @@
 //                         follower's target); with hold_position false (a vehicle that cannot
 //                         hold) -> SOURCE_NONE (neutral; the mixer disarms after its limit).
 // The ROV modes (STABILISE .. POSITION_HOLD, decided by tiller-rov-control) -> SOURCE_NONE.
+// FAILSAFE HOLD (tiller-failsafe's action on TILLER_VEHICLE_STATUS, docs/safety.md), in any mode:
+// SOURCE_STATION_KEEP, which holds where the vehicle is; with hold_position false, SOURCE_NONE.
+// The failsafe's other actions (surface, rise, neutral) reach the mixer as its own wrench.
 // Before any TILLER_MODE arrives, default_mode applies. A mode stays in force until changed;
 // leaving WAYPOINTING forgets the path (back in it, no path means neutral again).
 // Pure logic: decide() takes the inputs and the time and returns the decision.
@@ -41,6 +44,7 @@ struct ArbiterInput {
   bool setpoint_fresh = true;   // TILLER_VELOCITY_SETPOINT fresh
   bool complete = false;
   double distance_to_goal = 0;  // m
+  bool failsafe_hold = false;   // tiller-failsafe's action is HOLD
 };
 
 struct ArbiterDecision {

@@ -48,6 +48,7 @@ VelocityPidNode::VelocityPidNode(const VelocityPidNodeParams& p)
   subscribe(channels::kPathProgress, &VelocityPidNode::on_progress);
   subscribe(channels::kAllocationStatus, &VelocityPidNode::on_allocation);
   subscribe(channels::kThrusterCommand, &VelocityPidNode::on_thruster_command);
+  subscribe(channels::kVehicleStatus, &VelocityPidNode::on_vehicle_status);
   advertise<wrench_t>(channels::kWrenchVelocity);
   advertise<arbitration_t>(channels::kArbitration);
   advertise<pid_terms_t>(channels::kPidVelocity);
@@ -171,6 +172,18 @@ void VelocityPidNode::on_thruster_command(const thruster_command_t& m, TimeUs no
   command_fresh_.mark(now, m.utime, clock_offset());
 }
 
+void VelocityPidNode::on_vehicle_status(const vehicle_status_t& m, TimeUs now) {
+  // tiller-failsafe's verdict. It has no freshness limit: the last action stays in force (a
+  // failsafe that stops reporting does not end its hold); a queued old one is refused.
+  if (!on_time(m.utime, now, kEventMaxAgeUs, "vehicle_status")) return;
+  if (checks::check(m) != nullptr) {
+    reject(first_use(bad_status_, "rejected.vehicle_status.invalid"));
+    return;
+  }
+  failsafe_hold_ =
+      m.action == vehicle_status_t::ACTION_HOLD || m.action == vehicle_status_t::ACTION_RETURN;
+}
+
 void VelocityPidNode::publish_wrench(TimeUs now, bool valid, double x, double y, double n) {
   wrench_t w{};
   w.utime = now;
@@ -192,6 +205,7 @@ void VelocityPidNode::on_tick(TimeUs now) {
   ai.setpoint_fresh = setpoint_fresh_.fresh(now);
   ai.complete = progress_.complete;
   ai.distance_to_goal = progress_.distance_to_goal;
+  ai.failsafe_hold = failsafe_hold_;
   decision_ = arbiter_.decide(ai);
   arbitration_t& arb = arb_;
   arb.utime = now;

@@ -16,7 +16,8 @@
 // zero, blend from the last published wrench, dt = 0 on that tick. No fresh setpoint: wrench
 // invalid (the mixer treats it as absent). Odometry stale: neutral (an invalid wrench: the mixer's
 // input lost, then its disarm after safety.disarm_after_s), or the last wrench for hold_s, per
-// config. The arbiter's hold (path stopped, guidance stale) hands over to station keeping. Bad
+// config. The arbiter's hold (path stopped, guidance stale, tiller-failsafe's HOLD on
+// TILLER_VEHICLE_STATUS: the last one received stays in force) hands over to station keeping. Bad
 // input (core/message_checks.hpp) is dropped and counted: odometry with non-finite values
 // (rejected.odometry.nan) or angles / covariance size out of contract (rejected.odometry.range); a
 // setpoint out of contract, e.g. a valid heading outside (-pi, pi] (rejected.setpoint.invalid); an
@@ -33,6 +34,7 @@
 #include <tiller/odometry_t.hpp>
 #include <tiller/path_progress_t.hpp>
 #include <tiller/thruster_command_t.hpp>
+#include <tiller/vehicle_status_t.hpp>
 #include <tiller/velocity_setpoint_t.hpp>
 #include <tiller/wrench_t.hpp>
 
@@ -56,6 +58,7 @@ class VelocityPidNode : public Node {
   void on_allocation(const allocation_status_t& m, TimeUs now);
   void on_station_wrench(const wrench_t& m, TimeUs now);
   void on_thruster_command(const thruster_command_t& m, TimeUs now);
+  void on_vehicle_status(const vehicle_status_t& m, TimeUs now);
   void on_tick(TimeUs now) override;
 
   const ArbiterDecision& decision() const { return decision_; }
@@ -89,6 +92,7 @@ class VelocityPidNode : public Node {
   Freshness command_fresh_;  // TILLER_THRUSTER_COMMAND: the mixer's gate and source
   std::int8_t command_gate_ = thruster_command_t::GATE_DISARMED;
   std::int8_t command_source_ = wrench_t::SOURCE_NONE;
+  bool failsafe_hold_ = false;  // tiller-failsafe's last action was HOLD (or RETURN)
   Blend blend_;
   bool was_active_ = false;
   std::int8_t prev_source_ = -1;  // the arbiter's source at the previous tick
@@ -99,7 +103,7 @@ class VelocityPidNode : public Node {
   std::int64_t* invalid_odometry_ = nullptr;  // made on first use
   std::int64_t *range_odometry_ = nullptr, *bad_allocation_ = nullptr,  // made on first use
                                                *range_station_wrench_ = nullptr,
-               *bad_command_ = nullptr;
+               *bad_command_ = nullptr, *bad_status_ = nullptr;
 };
 
 }  // namespace tiller::control

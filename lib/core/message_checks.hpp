@@ -73,7 +73,7 @@ inline bool heading(double a) {
   return std::isfinite(a) && a > -kPi && a <= kPi;
 }
 inline bool source(std::int8_t s) {
-  return s >= wrench_t::SOURCE_NONE && s <= wrench_t::SOURCE_ROV_CONTROL;
+  return s >= wrench_t::SOURCE_NONE && s <= wrench_t::SOURCE_FAILSAFE;
 }
 inline bool mode(std::int8_t m) {
   return m >= controller_mode_t::MANUAL_OPEN_LOOP && m <= controller_mode_t::POSITION_HOLD;

@@ -102,6 +102,7 @@ FailsafeNodeParams load_failsafe_params(const config::Value& root) {
     p.rise_thrust_n = d->number_or("rise_thrust_n", p.rise_thrust_n, {1e-3, 1e5});
   }
   p.surface_thrust_n = root.number_or("surface_thrust_n", p.surface_thrust_n, {1e-3, 1e5});
+  p.surface_depth_m = root.number_or("surface_depth_m", p.surface_depth_m, {0, 100});
   root.check_all_used();
   return p;
 }

@@ -22,6 +22,9 @@ struct FailsafeNodeParams {
   // vertical thrusters make (full up-thrust) in the direction asked.
   double surface_thrust_n = 1e5;
   double rise_thrust_n = 1e5;
+  // SURFACE with fresh odometry shallower than this (m): the failsafe wrench is zero (at the
+  // surface; still the source, so nothing takes the vehicle down again).
+  double surface_depth_m = 0.3;
 };
 
 FailsafeNodeParams load_failsafe_params(const config::Value& root);

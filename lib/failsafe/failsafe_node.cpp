@@ -22,6 +22,8 @@ FailsafeNode::FailsafeNode(const FailsafeNodeParams& p)
   subscribe(channels::kMissionCommand, &FailsafeNode::on_mission_command);
   advertise<vehicle_status_t>(channels::kVehicleStatus);
   advertise<arm_request_t>(channels::kArmRequest);
+  advertise<wrench_t>(channels::kWrenchFailsafe);
+  wrench_.source = wrench_t::SOURCE_FAILSAFE;
   bad_power_ = &counter("rejected.power.invalid");
   bad_leak_ = &counter("rejected.leak.invalid");
   bad_gnss_ = &counter("rejected.gnss.invalid");
@@ -74,6 +76,8 @@ void FailsafeNode::on_odometry(const odometry_t& m, TimeUs now) {
     return;
   }
   odom_at_ = now;
+  depth_ = m.position[2];
+  depth_valid_ = (m.valid & odometry_t::VALID_DEPTH) != 0;
   const double c = std::cos(m.orientation[2]), s = std::sin(m.orientation[2]);
   const double u = m.velocity[0], v = m.velocity[1];
   monitor_.on_odometry(m.position[0], m.position[1], m.position[2], c * u - s * v, s * u + c * v,
@@ -107,6 +111,15 @@ void FailsafeNode::on_tick(TimeUs now) {
   status_.action = static_cast<std::int8_t>(s.action);
   if (s.changed) status_.reason = s.reason;
   publish(channels::kVehicleStatus, status_);
+  wrench_.utime = now;
+  wrench_.valid =
+      s.action == Action::kSurface || s.action == Action::kRise || s.action == Action::kNeutral;
+  const bool surfaced = odom_at_ >= 0 && now - odom_at_ <= p_.monitor.odometry_stale &&
+                        depth_valid_ && depth_ < p_.surface_depth_m;
+  wrench_.tau[2] = s.action == Action::kSurface ? (surfaced ? 0.0 : -p_.surface_thrust_n)
+                   : s.action == Action::kRise  ? -p_.rise_thrust_n
+                                                : 0.0;
+  publish(channels::kWrenchFailsafe, wrench_);
   if (s.action == Action::kDisarm &&
       (disarm_sent_at_ < 0 || now - disarm_sent_at_ >= kUsPerSecond)) {
     disarm_sent_at_ = now;

@@ -3,10 +3,15 @@
 // Subscribes TILLER_POWER (power_t), TILLER_LEAK (leak_t), TILLER_GNSS (gnss_fix_t),
 // TILLER_ODOMETRY (position, depth, velocity) and TILLER_MISSION_COMMAND (an operator's START or
 // RESUME, a new command_id, ends a geofence hold). Every tick (rate_hz) it publishes
-// TILLER_VEHICLE_STATUS (events active and latched, the action in force, the reason). When the
-// action is DISARM it publishes a disarm request on TILLER_ARM_REQUEST at once and again every
-// second (tiller-esc always takes a disarm). The heartbeat says the reason (DEGRADED while an
-// event holds, and while an enabled rule's sensor is silent) and counts each event's latchings
+// TILLER_VEHICLE_STATUS (events active and latched, the action in force, the reason) and
+// TILLER_WRENCH_FAILSAFE (wrench_t SOURCE_FAILSAFE, body FRD: valid only for SURFACE, [0 0
+// -surface_thrust_n 0 0 0] N (zero once shallower than surface_depth_m), RISE, [0 0 -rise_thrust_n
+// 0 0 0], and NEUTRAL, zero; the mixer then allocates it instead of every other source). HOLD
+// reaches the thrusters through the arbiter (tiller-velocity-pid reads TILLER_VEHICLE_STATUS) and
+// station keeping. When the action is DISARM it publishes a disarm request on TILLER_ARM_REQUEST at
+// once and again every second (tiller-esc always takes a disarm). The heartbeat says the reason
+// (DEGRADED while an event holds, and while an enabled rule's sensor is silent) and counts each
+// event's latchings
 // ("event.<name>"). Bad input (core/message_checks.hpp) is dropped and counted
 // (rejected.power.invalid, rejected.leak.invalid, rejected.gnss.invalid,
 // rejected.odometry.invalid, rejected.mission_command.invalid); an input older than its limit
@@ -23,6 +28,7 @@
 #include <tiller/odometry_t.hpp>
 #include <tiller/power_t.hpp>
 #include <tiller/vehicle_status_t.hpp>
+#include <tiller/wrench_t.hpp>
 
 #include "failsafe/failsafe_config.hpp"
 #include "failsafe/monitor.hpp"
@@ -50,11 +56,14 @@ class FailsafeNode : public Node {
   FailsafeNodeParams p_;
   Monitor monitor_;
   vehicle_status_t status_{};
+  wrench_t wrench_{};
   TimeUs disarm_sent_at_ = -1;
   std::int32_t counted_ = 0;  // latched bits already counted in event.*
   std::array<std::int64_t, 8> seen_ids_{};
   std::size_t next_id_ = 0;
   TimeUs power_at_ = -1, leak_at_ = -1, gnss_at_ = -1, odom_at_ = -1;
+  double depth_ = 0;          // m down, from the last odometry
+  bool depth_valid_ = false;  // its VALID_DEPTH bit (without it: surfacing keeps its up-thrust)
   std::string health_text_;
   std::int8_t health_ = -1;
   std::int64_t *bad_power_, *bad_leak_, *bad_gnss_, *bad_odometry_, *bad_command_;

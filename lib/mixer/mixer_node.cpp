@@ -73,7 +73,8 @@ MixerParams load_mixer_params(const config::Value& root) {
 }
 
 std::int8_t select_source(bool arbitration_fresh, std::int8_t arbitration_source,
-                          std::int8_t fallback_source) {
+                          std::int8_t fallback_source, bool failsafe_fresh) {
+  if (failsafe_fresh) return wrench_t::SOURCE_FAILSAFE;
   return arbitration_fresh ? arbitration_source : fallback_source;
 }
 
@@ -92,10 +93,12 @@ MixerNode::MixerNode(const MixerParams& params, const Vehicle& vehicle)
   velocity_.fresh.set_limit(p_.wrench_timeout_us);
   station_.fresh.set_limit(p_.wrench_timeout_us);
   rov_.fresh.set_limit(p_.wrench_timeout_us);
+  failsafe_.fresh.set_limit(p_.wrench_timeout_us);
   subscribe(channels::kManualDemand, &MixerNode::on_manual);
   subscribe(channels::kWrenchVelocity, &MixerNode::on_wrench_velocity);
   subscribe(channels::kWrenchStation, &MixerNode::on_wrench_station);
   subscribe(channels::kWrenchRov, &MixerNode::on_wrench_rov);
+  subscribe(channels::kWrenchFailsafe, &MixerNode::on_wrench_failsafe);
   subscribe(channels::kArbitration, &MixerNode::on_arbitration);
   subscribe(channels::kArmState, &MixerNode::on_arm_state);
   subscribe(channels::kMissionCommand, &MixerNode::on_mission_command);
@@ -140,7 +143,8 @@ MixerNode::MixerNode(const std::string& config_path)
           }())) {}
 
 std::int8_t MixerNode::source_now(TimeUs now) {
-  return select_source(arb_fresh_.fresh(now), arb_source_, p_.fallback_source);
+  return select_source(arb_fresh_.fresh(now), arb_source_, p_.fallback_source,
+                       failsafe_.fresh.fresh(now));
 }
 
 // New input publishes at once only when it is the active source's: the command rate stays the
@@ -161,10 +165,12 @@ void MixerNode::on_manual(const manual_demand_t& m, TimeUs now) {
 
 void MixerNode::on_wrench(WrenchInput& in, std::int8_t source, const wrench_t& m, TimeUs now) {
   if (!on_time(in.fresh, m.utime, now,
-               source == wrench_t::SOURCE_VELOCITY_PID  ? "wrench_velocity"
-               : source == wrench_t::SOURCE_ROV_CONTROL ? "wrench_rov"
-                                                        : "wrench_station"))
+               source == wrench_t::SOURCE_VELOCITY_PID   ? "wrench_velocity"
+               : source == wrench_t::SOURCE_ROV_CONTROL  ? "wrench_rov"
+               : source == wrench_t::SOURCE_STATION_KEEP ? "wrench_station"
+                                                         : "wrench_failsafe"))
     return;
+  const std::int8_t before = source_now(now);
   if (checks::check(m) != nullptr) {  // unknown source, NaN, beyond +-1e5
     in.fresh.reset();
     reject(*rej_wrench_);
@@ -174,7 +180,7 @@ void MixerNode::on_wrench(WrenchInput& in, std::int8_t source, const wrench_t& m
     for (int i = 0; i < 6; ++i) in.tau(i) = m.tau[i];
     in.fresh.mark(now, m.utime, clock_offset());
   }
-  if (p_.publish_every_input || source_now(now) == source) output(now);
+  if (p_.publish_every_input || source_now(now) == source || source_now(now) != before) output(now);
 }
 
 void MixerNode::on_wrench_velocity(const wrench_t& m, TimeUs now) {
@@ -185,6 +191,9 @@ void MixerNode::on_wrench_station(const wrench_t& m, TimeUs now) {
 }
 void MixerNode::on_wrench_rov(const wrench_t& m, TimeUs now) {
   on_wrench(rov_, wrench_t::SOURCE_ROV_CONTROL, m, now);
+}
+void MixerNode::on_wrench_failsafe(const wrench_t& m, TimeUs now) {
+  on_wrench(failsafe_, wrench_t::SOURCE_FAILSAFE, m, now);
 }
 
 // Arbitration and arm state publish at once when they change what the mixer does (the active
@@ -240,6 +249,12 @@ void MixerNode::on_mission_command(const mission_command_t& m, TimeUs now) {
 // The controller the source in control belongs to: the arbitration's mode when it is fresh,
 // else what the fallback source is.
 safety::Controller MixerNode::controller_now(TimeUs now) {
+  // tiller-failsafe's wrench in force; or its hold, which is the only station keeping in a manual
+  // mode (lib/control/arbiter.hpp).
+  if (failsafe_.fresh.fresh(now)) return safety::Controller::kFailsafe;
+  if (arb_fresh_.fresh(now) && arb_source_ == wrench_t::SOURCE_STATION_KEEP &&
+      arb_mode_ != controller_mode_t::WAYPOINTING)
+    return safety::Controller::kFailsafe;
   if (arb_fresh_.fresh(now)) {
     if (arb_source_ == wrench_t::SOURCE_NONE && arb_mode_ != controller_mode_t::WAYPOINTING)
       return safety::Controller::kNone;
@@ -276,7 +291,7 @@ void MixerNode::shutdown(TimeUs now) {
 
 void MixerNode::output(TimeUs now) {
   const bool armed = armed_ && arm_fresh_.fresh(now);
-  active_ = select_source(arb_fresh_.fresh(now), arb_source_, p_.fallback_source);
+  active_ = source_now(now);
   // The safety gate (lib/safety/intent_gate.hpp).
   safety::GateInput gi;
   gi.armed = armed;
@@ -287,7 +302,8 @@ void MixerNode::output(TimeUs now) {
   gi.source_fresh = (active_ == wrench_t::SOURCE_MANUAL_DEMAND && gi.pilot_fresh) ||
                     (active_ == wrench_t::SOURCE_VELOCITY_PID && velocity_.fresh.fresh(now)) ||
                     (active_ == wrench_t::SOURCE_STATION_KEEP && station_.fresh.fresh(now)) ||
-                    (active_ == wrench_t::SOURCE_ROV_CONTROL && rov_.fresh.fresh(now));
+                    (active_ == wrench_t::SOURCE_ROV_CONTROL && rov_.fresh.fresh(now)) ||
+                    (active_ == wrench_t::SOURCE_FAILSAFE && failsafe_.fresh.fresh(now));
   const safety::GateOutput g = gate_.step(gi, now);
   if (g.disarm) request_disarm(g.hold, now);
   bool ok = false;
@@ -303,6 +319,8 @@ void MixerNode::output(TimeUs now) {
     ok = alloc_->allocate(station_.tau, result_);
   } else if (active_ == wrench_t::SOURCE_ROV_CONTROL && rov_.fresh.fresh(now)) {
     ok = alloc_->allocate(rov_.tau, result_);
+  } else if (active_ == wrench_t::SOURCE_FAILSAFE && failsafe_.fresh.fresh(now)) {
+    ok = alloc_->allocate(failsafe_.tau, result_);
   } else {
     ++*neutral_no_input_;
   }
@@ -310,7 +328,8 @@ void MixerNode::output(TimeUs now) {
   // Fresh-to-stale transitions of every input feed the heartbeat's "stale" counter.
   const std::int64_t stale_now = manual_fresh_.stale_events() + velocity_.fresh.stale_events() +
                                  station_.fresh.stale_events() + rov_.fresh.stale_events() +
-                                 arb_fresh_.stale_events() + arm_fresh_.stale_events();
+                                 failsafe_.fresh.stale_events() + arb_fresh_.stale_events() +
+                                 arm_fresh_.stale_events();
   if (stale_now > stale_seen_) {
     count_stale(stale_now - stale_seen_);
     stale_seen_ = stale_now;

@@ -8,7 +8,9 @@
 // TILLER_WRENCH_STATION and TILLER_WRENCH_ROV (tiller-rov-control's assisted ROV modes) (wrench,
 // N / N m, body FRD), TILLER_ARBITRATION (which source is
 // active), TILLER_ARM_STATE (tiller-esc holds the arm latch), TILLER_MISSION_COMMAND (the
-// operator's START / RESUME / RELEASE for the autonomy).
+// operator's START / RESUME / RELEASE for the autonomy), TILLER_WRENCH_FAILSAFE (tiller-failsafe:
+// surface, rise or neutral; while it is fresh and valid it is the source, whatever the
+// arbitration says: the pilot's and the autonomy's commands are ignored).
 // Safety: a message with NaN/inf or out of range is dropped, counted, and makes that input
 // absent at once; an input older than its freshness limit is absent; the active source absent,
 // or no fresh "armed" arm state -> every command 0 (armed = false in the message). On top, the
@@ -64,11 +66,12 @@ struct MixerParams {
 // works from any directory), then to the current directory; an absolute path works anywhere.
 MixerParams load_mixer_params(const config::Value& root);
 
-// The source the mixer must allocate now (seed 004's choose_pid decision, made upstream by
-// lib/control/arbiter and published on TILLER_ARBITRATION): the latest fresh arbitration's
-// active_source; with none fresh, the configured fallback. SOURCE_NONE means neutral.
+// The source the mixer must allocate now: a fresh, valid failsafe wrench (SOURCE_FAILSAFE);
+// else seed 004's choose_pid decision, made upstream by lib/control/arbiter and published on
+// TILLER_ARBITRATION: the latest fresh arbitration's active_source; with none fresh, the
+// configured fallback. SOURCE_NONE means neutral.
 std::int8_t select_source(bool arbitration_fresh, std::int8_t arbitration_source,
-                          std::int8_t fallback_source);
+                          std::int8_t fallback_source, bool failsafe_fresh = false);
 
 class MixerNode : public Node {
  public:
@@ -83,6 +86,7 @@ class MixerNode : public Node {
   void on_wrench_velocity(const wrench_t& m, TimeUs now);
   void on_wrench_station(const wrench_t& m, TimeUs now);
   void on_wrench_rov(const wrench_t& m, TimeUs now);
+  void on_wrench_failsafe(const wrench_t& m, TimeUs now);
   void on_arbitration(const arbitration_t& m, TimeUs now);
   void on_arm_state(const arm_state_t& m, TimeUs now);
   void on_mission_command(const mission_command_t& m, TimeUs now);
@@ -109,7 +113,7 @@ class MixerNode : public Node {
   std::unique_ptr<Allocator> alloc_;
   Freshness manual_fresh_, arb_fresh_, arm_fresh_;
   Wrench manual_ = Wrench::Zero();
-  WrenchInput velocity_, station_, rov_;
+  WrenchInput velocity_, station_, rov_, failsafe_;
   std::int8_t arb_source_ = wrench_t::SOURCE_NONE;
   std::int8_t arb_mode_ = 0;
   bool armed_ = false;

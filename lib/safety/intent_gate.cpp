@@ -62,6 +62,7 @@ GateOutput IntentGate::step(const GateInput& in, TimeUs now) {
     go_pending_ = false;
     release_pending_ = false;
     disarm_sent_ = false;
+    moved_ = false;
     session_ = -1;
     out.state = state_;
     out.hold = refuse;
@@ -71,6 +72,7 @@ GateOutput IntentGate::step(const GateInput& in, TimeUs now) {
   if (state_ == GateState::kDisarmed || in.session != session_ || in.controller != controller_) {
     if (state_ == GateState::kDisarmed || in.session != session_) {
       disarm_sent_ = false;
+      moved_ = false;
       last_good_ = now;
     }
     session_ = in.session;
@@ -80,7 +82,9 @@ GateOutput IntentGate::step(const GateInput& in, TimeUs now) {
 
   const bool pilot = controller_ == Controller::kPilot;
   const bool autonomy = controller_ == Controller::kAutonomy;
-  const bool input_ok = pilot ? in.pilot_fresh && in.source_fresh : autonomy && in.source_fresh;
+  const bool failsafe = controller_ == Controller::kFailsafe;
+  const bool input_ok =
+      pilot ? in.pilot_fresh && in.source_fresh : (autonomy || failsafe) && in.source_fresh;
   if (input_ok) last_good_ = now;
 
   switch (state_) {
@@ -91,6 +95,8 @@ GateOutput IntentGate::step(const GateInput& in, TimeUs now) {
       } else if (autonomy && go_pending_) {
         enter(input_ok ? GateState::kActive : GateState::kInputLost);
         go_pending_ = false;
+      } else if (failsafe && moved_ && input_ok) {
+        enter(GateState::kActive);
       }
       break;
     case GateState::kActive:
@@ -107,13 +113,17 @@ GateOutput IntentGate::step(const GateInput& in, TimeUs now) {
 
   out.state = state_;
   out.may_move = state_ == GateState::kActive;
+  if (state_ == GateState::kActive) moved_ = true;
   if (state_ == GateState::kWaitNeutral) {
     out.hold = pilot      ? (in.pilot_fresh ? "armed: waiting for the stick to be centred"
                                             : "armed: waiting for pilot input (stick centred)")
                : autonomy ? "armed: waiting for an operator START or RESUME"
+               : failsafe ? "armed: failsafe in control, neutral (nothing moved in this arming)"
                           : "armed: no source in control";
   } else if (state_ == GateState::kInputLost) {
-    out.hold = pilot ? "armed: pilot input lost: neutral" : "armed: autonomy input lost: neutral";
+    out.hold = pilot      ? "armed: pilot input lost: neutral"
+               : failsafe ? "armed: failsafe input lost: neutral"
+                          : "armed: autonomy input lost: neutral";
   }
   if (!out.may_move && refuse[0] != '\0' && state_ != GateState::kInputLost) out.hold = refuse;
 
@@ -126,6 +136,7 @@ GateOutput IntentGate::step(const GateInput& in, TimeUs now) {
     out.disarm = true;
     out.hold = release_pending_ ? "operator release: disarming"
                : pilot          ? "pilot input lost: disarming"
+               : failsafe       ? "failsafe input lost: disarming"
                                 : "autonomy input lost: disarming";
   }
   return out;

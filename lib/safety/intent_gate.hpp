@@ -5,8 +5,9 @@
 //
 // The source in control belongs to a controller: the PILOT (modes MANUAL_OPEN_LOOP,
 // MANUAL_CLOSED_LOOP and the ROV modes STABILISE .. POSITION_HOLD: the stick, through
-// TILLER_MANUAL_DEMAND) or the AUTONOMY (WAYPOINTING:
-// path follower, velocity PID, station keeping), or NONE.
+// TILLER_MANUAL_DEMAND), the AUTONOMY (WAYPOINTING: path follower, velocity PID, station
+// keeping), the FAILSAFE (tiller-failsafe's surface, rise or neutral wrench, or its hold through
+// station keeping in a manual or ROV mode), or NONE.
 //
 // States (thruster_command_t GATE_*) and transitions, evaluated by step() at every output:
 //   DISARMED      no fresh "armed" TILLER_ARM_STATE. Start state (a restarted mixer starts here).
@@ -22,12 +23,16 @@
 //   WAIT_NEUTRAL -> ACTIVE        pilot: a fresh, valid, all-zero manual demand;
 //                                 autonomy: an operator START or RESUME (mission_command_t, a new
 //                                 id) received while armed (kept for this arming until used, or
-//                                 until the pilot takes control)
+//                                 until the pilot takes control);
+//                                 failsafe: its input fresh, and the gate was ACTIVE earlier in
+//                                 this arming (a failsafe never starts a vehicle that had not
+//                                 moved; leaving it, the pilot or autonomy starts over from
+//                                 WAIT_NEUTRAL)
 //   ACTIVE       -> INPUT_LOST    the source's input is stale or invalid (pilot: the manual demand
 //                                 or, in closed loop, the velocity PID's wrench; autonomy: the
 //                                 active wrench, or no wrench source at all)
 //   INPUT_LOST   -> WAIT_NEUTRAL  pilot input back (the stick must be centred again)
-//   INPUT_LOST   -> ACTIVE        autonomy input back
+//   INPUT_LOST   -> ACTIVE        autonomy or failsafe input back
 // Disarm: armed with no good input from the source in control for `disarm_after` (default 3 s,
 // counted from the later of the last good input and the arming), or an operator RELEASE: step()
 // returns disarm = true (once, then every second while still armed), and the mixer publishes
@@ -46,7 +51,7 @@
 
 namespace tiller::safety {
 
-enum class Controller : std::int8_t { kNone, kPilot, kAutonomy };
+enum class Controller : std::int8_t { kNone, kPilot, kAutonomy, kFailsafe };
 // Values equal thruster_command_t GATE_* (checked in intent_gate.cpp).
 enum class GateState : std::int8_t { kDisarmed = 0, kWaitNeutral = 1, kActive = 2, kInputLost = 3 };
 
@@ -99,6 +104,7 @@ class IntentGate {
   bool go_pending_ = false;  // START/RESUME seen, not yet consumed by WAIT_NEUTRAL
   bool release_pending_ = false;
   bool disarm_sent_ = false;  // this arming
+  bool moved_ = false;        // ACTIVE at some time in this arming
   TimeUs disarm_sent_at_ = 0;
   TimeUs last_good_ = 0;  // last step with good input from the source (or the arming)
   std::array<std::int64_t, 8> seen_ids_{};  // the last ids acted on

@@ -122,10 +122,12 @@ template <>
 inline wrench_t good(const std::string& channel, TimeUs t, const InputContext&) {
   wrench_t m{};
   m.utime = t;
-  m.source = channel == channels::kWrenchStation ? wrench_t::SOURCE_STATION_KEEP
-             : channel == channels::kWrenchRov   ? wrench_t::SOURCE_ROV_CONTROL
-                                                 : wrench_t::SOURCE_VELOCITY_PID;
-  m.valid = true;
+  m.source = channel == channels::kWrenchStation    ? wrench_t::SOURCE_STATION_KEEP
+             : channel == channels::kWrenchRov      ? wrench_t::SOURCE_ROV_CONTROL
+             : channel == channels::kWrenchFailsafe ? wrench_t::SOURCE_FAILSAFE
+                                                    : wrench_t::SOURCE_VELOCITY_PID;
+  // The scenario has no failsafe in force: tiller-failsafe's wrench says nothing (invalid).
+  m.valid = channel != channels::kWrenchFailsafe;
   m.tau[0] = 30.0;
   m.tau[1] = 5.0;
   m.tau[5] = 3.0;

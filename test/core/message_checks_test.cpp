@@ -162,7 +162,8 @@ TEST(MessageChecks, Wrench) {
   g.valid = true;
   g.tau[0] = 100.0;
   std::vector<Case<wrench_t>> t = {
-      {"source 5", [](auto& m) { m.source = 5; }, "source.unknown"},
+      {"source 6", [](auto& m) { m.source = 6; }, "source.unknown"},  // past SOURCE_FAILSAFE (5)
+      {"source failsafe", [](auto& m) { m.source = wrench_t::SOURCE_FAILSAFE; }, nullptr},
       {"source -1", [](auto& m) { m.source = -1; }, "source.unknown"},
   };
   for (int i = 0; i < 6; ++i) {
@@ -203,7 +204,7 @@ TEST(MessageChecks, Arbitration) {
   run_table(g, std::vector<Case<arbitration_t>>{
                    {"mode 9", [](auto& m) { m.mode = 9; }, "mode.unknown"},
                    {"mode -1", [](auto& m) { m.mode = -1; }, "mode.unknown"},
-                   {"source 5", [](auto& m) { m.active_source = 5; }, "source.unknown"},
+                   {"source 6", [](auto& m) { m.active_source = 6; }, "source.unknown"},
                    {"source none", [](auto& m) { m.active_source = 0; }, nullptr},
                });
 }

@@ -31,6 +31,54 @@ GateInput autonomy(bool armed, std::int64_t session, bool fresh) {
   return in;
 }
 
+GateInput failsafe(bool armed, std::int64_t session, bool fresh, double pilot_surge = 0) {
+  GateInput in;
+  in.armed = armed;
+  in.session = session;
+  in.controller = Controller::kFailsafe;
+  in.pilot_fresh = true;
+  in.pilot[0] = pilot_surge;
+  in.source_fresh = fresh;
+  return in;
+}
+
+TEST(IntentGate, AFailsafeTakesOverAMovingVehicleAtOnceAndThePilotCentresAfterIt) {
+  IntentGate g;
+  g.step(pilot(true, 1, true, 0.0), 0);
+  EXPECT_TRUE(g.step(pilot(true, 1, true, -0.8), 10 * kMs).may_move);
+  // tiller-failsafe's wrench (a surface) replaces the pilot: active in the same step.
+  GateOutput o = g.step(failsafe(true, 1, true, -0.8), 20 * kMs);
+  EXPECT_EQ(o.state, GateState::kActive);
+  EXPECT_TRUE(o.may_move);
+  // Its input lost: neutral; back: active again.
+  o = g.step(failsafe(true, 1, false, -0.8), 30 * kMs);
+  EXPECT_EQ(o.state, GateState::kInputLost);
+  EXPECT_EQ(std::string(o.hold), "armed: failsafe input lost: neutral");
+  EXPECT_TRUE(g.step(failsafe(true, 1, true, -0.8), 40 * kMs).may_move);
+  // The failsafe ends with the stick still held: the pilot must centre it first.
+  o = g.step(pilot(true, 1, true, -0.8), 50 * kMs);
+  EXPECT_EQ(o.state, GateState::kWaitNeutral);
+  EXPECT_FALSE(o.may_move);
+  EXPECT_TRUE(g.step(pilot(true, 1, true, 0.0), 60 * kMs).may_move);
+}
+
+TEST(IntentGate, AFailsafeNeverStartsAVehicleThatHadNotMovedInThisArming) {
+  IntentGate g;
+  g.step(pilot(true, 1, true, 0.5), 0);  // armed, the stick never centred: WAIT_NEUTRAL
+  GateOutput o = g.step(failsafe(true, 1, true), 10 * kMs);
+  EXPECT_EQ(o.state, GateState::kWaitNeutral);
+  EXPECT_FALSE(o.may_move);
+  EXPECT_EQ(std::string(o.hold),
+            "armed: failsafe in control, neutral (nothing moved in this arming)");
+  // Moved, then disarmed and armed again (a new session): the failsafe waits again.
+  g.step(pilot(true, 1, true, 0.0), 20 * kMs);
+  EXPECT_TRUE(g.step(failsafe(true, 1, true), 30 * kMs).may_move);
+  g.step(failsafe(false, 1, true), 40 * kMs);
+  EXPECT_FALSE(g.step(failsafe(true, 2, true), 50 * kMs).may_move);
+  // Its input fresh, so no disarm for lack of input.
+  EXPECT_FALSE(g.step(failsafe(true, 2, true), 4'000 * kMs).disarm);
+}
+
 TEST(IntentGate, ArmingIsRefusedWhileThePilotDemandIsNotNeutral) {
   IntentGate g;
   GateOutput o = g.step(pilot(false, 0, true, 1.0), 0);
