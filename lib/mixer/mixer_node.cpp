@@ -370,10 +370,10 @@ void MixerNode::output(TimeUs now) {
   const std::int8_t health = ok || !armed || g.state == safety::GateState::kWaitNeutral
                                  ? heartbeat_t::STATE_OK
                                  : heartbeat_t::STATE_DEGRADED;
-  if (health != health_ || text != health_text_) {
+  if (health != health_ || health_text_ != text) {
     health_ = health;
-    health_text_ = text;
-    set_health(health, text);
+    health_text_ = text;  // reuses its capacity: no allocation once warm
+    set_health(health, health_text_);
   }
 }
 

@@ -119,7 +119,9 @@ class MixerNode : public Node {
   bool armed_ = false;
   std::int64_t session_ = 0;
   safety::IntentGate gate_;
-  const char* health_text_ = nullptr;
+  // The heartbeat's status text, kept here so that a changed text (the gate's refusal with the
+  // stick's value) is compared by content and handed over without a temporary string.
+  std::string health_text_;
   std::int8_t active_ = wrench_t::SOURCE_NONE;
   AllocationResult result_;
   thruster_command_t cmd_{};
