@@ -19,17 +19,32 @@ PidTerms StationPid::step(const StationPidInput& in) {
   const double epsi_target = angle_diff(in.target_heading, in.heading);
   const bool integrate = in.dt > 0 && in.dt <= p_.max_dt;
 
-  // Integral (x, y): body-frame increments, stored as a world-frame force.
+  // Integral (x, y): body-frame increments, stored as a world-frame force. In weathervane mode
+  // the whole force is made by surge with the bow turned along it, so the sideways part
+  // integrates whenever surge does (the mixer's "sway unactuated" does not freeze it), and the
+  // bound is on the magnitude (x.i_limit), which does not change as the boat turns. Before
+  // (issue 13 finding 3) sway never integrated: after a turn the world-fixed integral had a
+  // sideways part that could not unwind, and the heading loop settled where the sway P term
+  // cancelled it, a standing offset I_y / kp_y (0.67 m) to the side.
+  const bool freeze_y = p_.weathervane ? in.freeze[0] : in.freeze[1];
   if (integrate) {
     const double dix = in.freeze[0] ? 0.0 : p_.x.ki * ex * in.dt;
-    const double diy = in.freeze[1] ? 0.0 : p_.y.ki * ey * in.dt;
+    const double diy = freeze_y ? 0.0 : p_.y.ki * ey * in.dt;
     i_world_[0] += c * dix - s * diy;
     i_world_[1] += s * dix + c * diy;
   }
   double ix = c * i_world_[0] + s * i_world_[1];
   double iy = -s * i_world_[0] + c * i_world_[1];
-  ix = std::clamp(ix, -p_.x.i_limit, p_.x.i_limit);
-  iy = std::clamp(iy, -p_.y.i_limit, p_.y.i_limit);
+  if (p_.weathervane) {
+    const double mag = std::hypot(ix, iy);
+    if (mag > p_.x.i_limit) {
+      ix *= p_.x.i_limit / mag;
+      iy *= p_.x.i_limit / mag;
+    }
+  } else {
+    ix = std::clamp(ix, -p_.x.i_limit, p_.x.i_limit);
+    iy = std::clamp(iy, -p_.y.i_limit, p_.y.i_limit);
+  }
   i_world_ = {c * ix - s * iy, s * ix + c * iy};  // keep the stored value within the bounds
 
   t.setpoint = {0.0, 0.0, wrap_pi(in.target_heading)};
@@ -37,7 +52,7 @@ PidTerms StationPid::step(const StationPidInput& in) {
   t.p = {p_.x.kp * ex, p_.y.kp * ey, 0};
   t.i = {ix, iy, 0};
   t.d = {-p_.x.kd * in.u, -p_.y.kd * in.v, -p_.yaw.kd * in.r};
-  t.frozen = in.freeze;
+  t.frozen = {in.freeze[0], freeze_y, in.freeze[2]};
 
   double epsi = epsi_target;
   if (p_.weathervane) {
@@ -72,9 +87,8 @@ PidTerms StationPid::step(const StationPidInput& in) {
       t.setpoint[2] = wrap_pi(in.heading + epsi);
     }
     // Only the part of F along the bow can be produced: it is fx = P + I + D of the x axis.
-    t.p[1] = 0;
-    t.i[1] = 0;
-    t.d[1] = 0;
+    // The sway terms stay published as they are applied: their sum is the sideways part of F,
+    // which the heading setpoint (setpoint[2]) turns the bow toward; no sway force is sent.
     t.out[0] = std::clamp(fn * c + fe * s, -p_.x.max_output, p_.x.max_output);
     t.out[1] = 0;
   } else {

@@ -9,6 +9,9 @@
 // force, no division by the distance. The integral is kept as a world-frame force (so it
 // stays pointed at a steady current while the vehicle turns), integrates ki * e dt per body
 // axis, is bounded per axis by i_limit, and is frozen while the mixer reduced that axis.
+// In weathervane mode both components integrate while surge may (the sideways part is made by
+// turning, so it must be able to unwind: otherwise a standing offset I_y / kp_y remains after a
+// turn), bounded in magnitude by x.i_limit.
 //
 // Weathervane mode (boats with no sway authority, e.g. the Otter): the demanded world-frame
 // force F = R(psi) [x y] is produced by turning the bow along F (or, within reverse_radius, the
@@ -16,7 +19,9 @@
 // the target heading is held. No hard switches: the heading error blends from the target's to
 // the force's with |F| (min_force .. full_force) and from axis to bow with the distance
 // (reverse_radius .. + reverse_blend), see station_pid.cpp. The published P + I + D of each
-// axis is its output (before the max_output clamp). Outputs X, Y in N and N in N m.
+// axis is its output (before the max_output clamp), except sway in weathervane mode: there the
+// published sway P, I and D are the sideways part of F, which the heading setpoint turns the bow
+// toward, and the sway output is 0. Outputs X, Y in N and N in N m.
 #pragma once
 
 #include <array>

@@ -406,7 +406,7 @@ inline Reason check(const vehicle_status_t& m) {
   if ((m.active & ~vehicle_status_t::EVENT_ALL) != 0) return "active.unknown";
   if ((m.latched & ~vehicle_status_t::EVENT_ALL) != 0) return "latched.unknown";
   if ((m.active & ~m.latched) != 0) return "latched.inconsistent";
-  if (m.action < vehicle_status_t::ACTION_NONE || m.action > vehicle_status_t::ACTION_DISARM)
+  if (m.action < vehicle_status_t::ACTION_NONE || m.action > vehicle_status_t::ACTION_RISE)
     return "action.unknown";
   return nullptr;
 }

@@ -19,7 +19,7 @@ Leg leg(const Goal& a, const Goal& b) {
 }  // namespace
 
 CornerScores corner_scores(const std::vector<Pose>& run, const std::vector<Goal>& path,
-                           double start, double settle_s) {
+                           double start, double settle_s, double end) {
   CornerScores c;
   const std::size_t n = path.size();
   c.passage.assign(n, -1);
@@ -30,7 +30,7 @@ CornerScores corner_scores(const std::vector<Pose>& run, const std::vector<Goal>
   for (std::size_t k = 0; k < n && from < run.size(); ++k) {
     double best = 1e300;
     std::size_t at = from;
-    for (std::size_t i = from; i < run.size(); ++i) {
+    for (std::size_t i = from; i < run.size() && run[i].t <= end; ++i) {
       const double d = std::hypot(run[i].north - path[k].north, run[i].east - path[k].east);
       if (d < best) {
         best = d;
@@ -53,7 +53,7 @@ CornerScores corner_scores(const std::vector<Pose>& run, const std::vector<Goal>
     if (c.passage[k] < 0 || c.passage[k + 1] < 0) continue;
     const Leg l = leg(path[k], path[k + 1]);
     for (const auto& p : run) {
-      if (p.t < c.passage[k] + settle_s || p.t > c.passage[k + 1]) continue;
+      if (p.t < c.passage[k] + settle_s || p.t > c.passage[k + 1] || p.t > end) continue;
       const double e = -(p.north - l.n0) * l.te + (p.east - l.e0) * l.tn;
       sum += e * e;
       ++c.steady_samples;
@@ -72,6 +72,7 @@ CornerScores corner_scores(const std::vector<Pose>& run, const std::vector<Goal>
       }
       for (const auto& p : run) {
         if (p.t < c.passage[k - 1]) continue;
+        if (p.t > end) break;
         const double s = (p.north - b.n0) * b.tn + (p.east - b.e0) * b.te;
         if (p.t > c.passage[k] && s > b.len / 2) break;
         worst = std::max(worst, (p.north - b.n0) * on + (p.east - b.e0) * oe);

@@ -25,7 +25,11 @@ struct CornerScores {
   double max_overshoot = 0;       // m
 };
 
+// Only poses from `start` to `end` (s) count: pass the path's completion as `end`, so that
+// station keeping at the goal afterwards is not scored as path following (the closest approach
+// to the goal would otherwise come at the end of the hold, and the hold's manoeuvres count as
+// the last leg's cross-track).
 CornerScores corner_scores(const std::vector<Pose>& run, const std::vector<Goal>& path,
-                           double start, double settle_s = 60);
+                           double start, double settle_s = 60, double end = 1e300);
 
 }  // namespace tiller::scores

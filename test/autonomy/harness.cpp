@@ -128,7 +128,7 @@ RunResult run_mission(const RunConfig& c) {
   path = scores::path_as_followed(path, r.poses, 0.0);
   r.path = scores::score_path(r.poses, path, 0.0,
                               r.completed ? std::optional<double>(r.completed_at) : std::nullopt);
-  r.corners = scores::corner_scores(r.poses, path, 0.0);
+  r.corners = scores::corner_scores(r.poses, path, 0.0, 60, r.completed ? r.completed_at : 1e300);
   if (r.completed) {
     r.held_s = r.sim_s - r.completed_at;
     r.station_vrx = scores::vrx_station_keeping(r.poses, path.back(), r.completed_at, r.sim_s);

@@ -22,8 +22,10 @@
 #include <tiller/arm_state_t.hpp>
 #include <tiller/controller_mode_t.hpp>
 #include <tiller/esc_output_t.hpp>
+#include <tiller/gnss_fix_t.hpp>
 #include <tiller/heartbeat_t.hpp>
 #include <tiller/joystick_state_t.hpp>
+#include <tiller/leak_t.hpp>
 #include <tiller/manual_demand_t.hpp>
 #include <tiller/manual_velocity_cmd_t.hpp>
 #include <tiller/mission_command_t.hpp>
@@ -31,6 +33,7 @@
 #include <tiller/path_progress_t.hpp>
 #include <tiller/path_t.hpp>
 #include <tiller/pid_terms_t.hpp>
+#include <tiller/power_t.hpp>
 #include <tiller/station_target_t.hpp>
 #include <tiller/thruster_command_t.hpp>
 #include <tiller/thruster_test_t.hpp>
@@ -210,6 +213,53 @@ inline heartbeat_t good(const std::string& channel, TimeUs t, const InputContext
   m.n_counters = 1;
   m.counter_names = {"ticks.run"};
   m.counter_values = {t / 1000};
+  return m;
+}
+
+template <>
+inline gnss_fix_t good(const std::string&, TimeUs t, const InputContext&) {
+  gnss_fix_t m{};
+  m.utime = t;
+  m.gnss_utime = 1'780'000'000'000'000 + t;
+  m.fix_type = gnss_fix_t::FIX_3D;
+  m.satellites = 9;
+  m.latitude = 59.43;
+  m.longitude = 10.47;
+  m.altitude = 40.0;
+  m.altitude_msl = 1.0;
+  m.position_std[0] = m.position_std[1] = 1.2;
+  m.position_std[2] = 2.5;
+  m.accuracy_source = gnss_fix_t::ACCURACY_RECEIVER;
+  m.hdop = 0.9;
+  m.velocity_valid = true;
+  m.speed = 1.0;
+  m.course = 0.5;
+  m.device = "sim";
+  return m;
+}
+
+template <>
+inline power_t good(const std::string&, TimeUs t, const InputContext&) {
+  power_t m{};
+  m.utime = t;
+  m.voltage = 15.5;
+  m.current = 8.0;
+  m.power = 124.0;
+  m.consumed_charge = 0.1;
+  m.consumed_energy = 1.5;
+  m.monitor = "sim";
+  return m;
+}
+
+template <>
+inline leak_t good(const std::string&, TimeUs t, const InputContext&) {
+  leak_t m{};
+  m.utime = t;
+  m.n_probes = 2;
+  m.names = {"main_tube", "battery_tube"};
+  m.wet = {0, 0};
+  m.readable = {1, 1};
+  m.any_wet = false;
   return m;
 }
 
@@ -531,8 +581,43 @@ inline std::int64_t missing_kinds_hash<heartbeat_t>() {
 }
 
 template <>
+inline std::vector<BadValue<gnss_fix_t>> bad_values() {
+  return {{"latitude NaN", kNF, [](gnss_fix_t& m) { m.latitude = std::nan(""); }},
+          {"longitude inf", kNF, [](gnss_fix_t& m) { m.longitude = kHuge * kHuge; }},
+          {"latitude 91", kOR, [](gnss_fix_t& m) { m.latitude = 91; }},
+          {"fix type 9", kOR, [](gnss_fix_t& m) { m.fix_type = 9; }},
+          {"position std -1", kOR, [](gnss_fix_t& m) { m.position_std[0] = -1; }}};
+}
+template <>
+inline std::vector<BadValue<power_t>> bad_values() {
+  return {{"voltage NaN", kNF, [](power_t& m) { m.voltage = std::nan(""); }},
+          {"voltage 150", kOR, [](power_t& m) { m.voltage = 150; }},
+          {"current 1e300", kOR, [](power_t& m) { m.current = kHuge; }}};
+}
+template <>
+inline std::vector<BadValue<leak_t>> bad_values() {
+  return {{"n_probes 33", kOR,
+           [](leak_t& m) {
+             m.n_probes = 33;
+             m.names.assign(33, "p");
+             m.wet.assign(33, 0);
+             m.readable.assign(33, 1);
+           }},
+          {"unreadable dry", kOR, [](leak_t& m) { m.readable[1] = 0; }},
+          {"any_wet inconsistent", kOR, [](leak_t& m) { m.any_wet = true; }}};
+}
+template <>
+inline std::vector<MissingKind> missing_kinds<leak_t>() {
+  return {{kNF, "booleans, integers and text only"}};
+}
+template <>
+inline std::int64_t missing_kinds_hash<leak_t>() {
+  return static_cast<std::int64_t>(0x6192d0a14cf3160cULL);
+}
+
+template <>
 inline std::vector<BadValue<vehicle_status_t>> bad_values() {
-  return {{"action 9", kOR, [](vehicle_status_t& m) { m.action = 9; }},
+  return {{"action 8", kOR, [](vehicle_status_t& m) { m.action = 8; }},
           {"unknown event bit", kOR, [](vehicle_status_t& m) { m.active = 64; }},
           {"active not latched", kOR,
            [](vehicle_status_t& m) { m.active = vehicle_status_t::EVENT_GEOFENCE; }}};
@@ -728,7 +813,10 @@ inline std::vector<TypeInputs> all_type_inputs() {
           type_inputs<esc_output_t>(),
           type_inputs<joystick_state_t>(),
           type_inputs<heartbeat_t>(),
-          type_inputs<vehicle_status_t>()};
+          type_inputs<vehicle_status_t>(),
+          type_inputs<gnss_fix_t>(),
+          type_inputs<power_t>(),
+          type_inputs<leak_t>()};
 }
 
 }  // namespace tiller::test

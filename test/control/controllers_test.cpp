@@ -4,6 +4,7 @@
 #include <tiller/controller_mode_t.hpp>
 #include <tiller/wrench_t.hpp>
 
+#include <algorithm>
 #include <cmath>
 #include <cstdio>
 #include <cstring>
@@ -201,18 +202,23 @@ StationPidParams otter_station() {
       .pid;
 }
 
-// Published P + I + D + FF is the output on each axis (no clamp active here).
-void expect_terms_add_up(const PidTerms& t) {
-  for (int k = 0; k < 3; ++k) {
-    EXPECT_NEAR(t.p[k] + t.i[k] + t.d[k] + t.ff[k], t.out[k], 1e-9) << "axis " << k;
+// Published P + I + D + FF is the output on surge and yaw (up to max_output); in weathervane
+// mode sway's sum is the sideways force the heading turns toward, not sent (out[1] = 0).
+void expect_terms_add_up(const PidTerms& t, const StationPidParams& p) {
+  EXPECT_EQ(t.out[1], 0.0);
+  const double lim[3] = {p.x.max_output, 0, p.yaw.max_output};
+  for (int k = 0; k < 3; k += 2) {
+    EXPECT_NEAR(std::clamp(t.p[k] + t.i[k] + t.d[k] + t.ff[k], -lim[k], lim[k]), t.out[k], 1e-9)
+        << "axis " << k;
   }
 }
 
 // No hard switch in weathervane mode: sweeping the error slowly through every threshold (the
 // force thresholds, 90 deg off the bow inside reverse_radius, the reverse radius itself) moves
-// the yaw output by at most a few N m per step. The old rule switched the heading setpoint at
-// weathervane_min_force (about 24 N m here) and flipped it by pi at 90 deg off the bow inside
-// reverse_radius and on crossing it (up to 160 N m, clamped at 80).
+// the yaw output by at most a few N m per step (0.1 rad of heading setpoint times yaw.kp). The old
+// rule switched the heading setpoint at weathervane_min_force (about 0.8 rad: 24 N m at kp 30)
+// and flipped it by pi at 90 deg off the bow inside reverse_radius and on crossing it (up to
+// 160 N m, clamped at 80).
 TEST(StationPid, WeathervaneHasNoHardSwitches) {
   const auto p = otter_station();
   ASSERT_TRUE(p.weathervane);
@@ -224,7 +230,7 @@ TEST(StationPid, WeathervaneHasNoHardSwitches) {
     in.target_n = n;
     in.target_e = e;
     const auto t = pid.step(in);
-    expect_terms_add_up(t);
+    expect_terms_add_up(t, p);
     EXPECT_TRUE(std::isfinite(t.out[2]));
     if (!first) worst = std::max(worst, std::abs(t.out[2] - last));
     last = t.out[2];
@@ -236,7 +242,7 @@ TEST(StationPid, WeathervaneHasNoHardSwitches) {
     const double d = 0.01 * k;
     sweep(d * std::cos(kPi / 4), d * std::sin(kPi / 4), last, k == 0);
   }
-  EXPECT_LT(worst, 3.0);
+  EXPECT_LT(worst, 0.1 * p.yaw.kp);
   std::printf("largest yaw step: |F| and radius sweep %.2f N m", worst);
   // 2. Round the boat at 0.8 m (inside reverse_radius), 1 deg steps: through 90 deg off the bow.
   worst = 0;
@@ -244,7 +250,7 @@ TEST(StationPid, WeathervaneHasNoHardSwitches) {
     const double b = deg_to_rad(k);
     sweep(0.8 * std::cos(b), 0.8 * std::sin(b), last, k == 0);
   }
-  EXPECT_LT(worst, 3.0);
+  EXPECT_LT(worst, 0.1 * p.yaw.kp);
   std::printf(", round the boat %.2f N m", worst);
   // 3. 150 deg off the bow (astern quarter), out through reverse_radius: 0.5 -> 2 m, 1 cm steps.
   worst = 0;
@@ -252,7 +258,7 @@ TEST(StationPid, WeathervaneHasNoHardSwitches) {
     const double d = 0.5 + 0.01 * k, b = deg_to_rad(150);
     sweep(d * std::cos(b), d * std::sin(b), last, k == 0);
   }
-  EXPECT_LT(worst, 3.0);
+  EXPECT_LT(worst, 0.1 * p.yaw.kp);
   std::printf(", out through reverse_radius %.2f N m\n", worst);
   // Far out the bow turns along the force; close behind, it pushes astern holding its heading.
   in.target_n = 0;
@@ -273,6 +279,47 @@ TEST(StationPid, WeathervaneHasNoHardSwitches) {
   EXPECT_NEAR(t.setpoint[2], 0.3, 1e-12);
 }
 
+// Issue 13 finding 3: in weathervane mode the sideways part of the integral integrates (the
+// boat makes it by turning) and unwinds; before, sway never integrated and a world-fixed integral
+// that a turn had put along sway stayed there, balanced by a standing offset I_y / kp_y.
+TEST(StationPid, WeathervaneIntegralUnwindsSideways) {
+  auto p = sparams();  // x: ki 2, i_limit 5; y: kp 12, ki 2
+  p.weathervane = true;
+  StationPid pid(p);
+  StationPidInput in;
+  in.target_n = 1;  // 1 m ahead, facing north
+  in.dt = 0.1;
+  in.freeze = {false, true, false};  // what the node passes for the Otter: sway unactuated
+  for (int k = 0; k < 10; ++k) pid.step(in);
+  EXPECT_NEAR(pid.step(in).i[0], 11 * 2 * 1 * 0.1, 1e-12);  // 2.2 N north
+  // Turned to face east with the target 1 m to the left (north): the 2.2 N lies along -sway and
+  // the -1 m sway error adds to it; moved onto the target, the sway integral unwinds.
+  in.heading = kPi / 2;
+  auto t = pid.step(in);
+  EXPECT_NEAR(t.i[0], 0.0, 1e-12);
+  EXPECT_NEAR(t.i[1], -2.2 - 2 * 1 * 0.1, 1e-12);
+  EXPECT_FALSE(t.frozen[1]);
+  in.target_n = 0;
+  in.target_e = 1;  // now 1 m ahead: only surge integrates, sway keeps its -2.4 N
+  t = pid.step(in);
+  EXPECT_NEAR(t.i[1], -2.4, 1e-12);
+  in.target_n = -1;  // 1 m to the right: +0.2 N per step
+  in.target_e = 0;
+  for (int k = 0; k < 12; ++k) t = pid.step(in);
+  EXPECT_NEAR(t.i[1], 0.0, 1e-12);
+  // The bound is on the magnitude: 5 N whichever way the boat faces.
+  for (int k = 0; k < 1000; ++k) t = pid.step(in);
+  EXPECT_NEAR(std::hypot(t.i[0], t.i[1]), 5.0, 1e-12);
+  // Frozen with surge (reduced, or the gate): nothing integrates.
+  in.freeze = {true, true, false};
+  in.target_n = 1;
+  const auto before = pid.step(in).i;
+  t = pid.step(in);
+  EXPECT_DOUBLE_EQ(t.i[0], before[0]);
+  EXPECT_DOUBLE_EQ(t.i[1], before[1]);
+  EXPECT_TRUE(t.frozen[1]);
+}
+
 TEST(StationPid, TermsAddUpToTheOutputInWeathervaneMode) {
   auto p = otter_station();
   p.yaw.ki = 2;  // exercise the yaw integral too
@@ -291,7 +338,15 @@ TEST(StationPid, TermsAddUpToTheOutputInWeathervaneMode) {
     const auto t = pid.step(in);
     SCOPED_TRACE(k);
     EXPECT_DOUBLE_EQ(t.out[1], 0.0);
-    for (int a = 0; a < 3; ++a) {
+    // Sway's P + I + D is the sideways part of the demanded force, published as applied: the
+    // force (surge, sway) points where the heading setpoint turns the bow (at full weight
+    // outside reverse_radius + blend and above weathervane_full_force).
+    const double fx = t.p[0] + t.i[0] + t.d[0], fy = t.p[1] + t.i[1] + t.d[1];
+    if (std::hypot(in.target_n, in.target_e) > p.reverse_radius + p.reverse_blend &&
+        std::hypot(fx, fy) > p.weathervane_full_force) {
+      EXPECT_NEAR(angle_diff(t.setpoint[2], in.heading), std::atan2(fy, fx), 1e-9);
+    }
+    for (int a = 0; a < 3; a += 2) {
       const double sum = t.p[a] + t.i[a] + t.d[a] + t.ff[a];
       const double lim = a == 0 ? p.x.max_output : a == 1 ? p.y.max_output : p.yaw.max_output;
       EXPECT_NEAR(std::clamp(sum, -lim, lim), t.out[a], 1e-9) << "axis " << a;

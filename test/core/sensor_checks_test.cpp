@@ -380,7 +380,9 @@ TEST(SensorChecks, VehicleStatus) {
   expect_reason<M>(
       g, "action disarm", [](M& m) { m.action = M::ACTION_DISARM; }, nullptr);
   expect_reason<M>(
-      g, "action 7", [](M& m) { m.action = 7; }, "action.unknown");
+      g, "action rise", [](M& m) { m.action = M::ACTION_RISE; }, nullptr);
+  expect_reason<M>(
+      g, "action 8", [](M& m) { m.action = 8; }, "action.unknown");
   expect_reason<M>(
       g, "action -1", [](M& m) { m.action = -1; }, "action.unknown");
   expect_reason<M>(

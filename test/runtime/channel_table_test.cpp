@@ -25,6 +25,8 @@
 #include "control/velocity_pid_node.hpp"
 #include "core/config.hpp"
 #include "esc/esc_node.hpp"
+#include "failsafe/failsafe_config.hpp"
+#include "failsafe/failsafe_node.hpp"
 #include "guidance/follower_config.hpp"
 #include "guidance/path_follower_node.hpp"
 #include "i2c/fake_bus.hpp"
@@ -162,6 +164,8 @@ std::vector<Program> programs() {
   add("tiller-power",
       std::make_unique<sensors::PowerNode>(
           sensors::load_power_file(kRoot + "/config/sensors/power_ina226.yaml"), i2c));
+  add("tiller-failsafe", std::make_unique<failsafe::FailsafeNode>(failsafe::load_failsafe_file(
+                             kRoot + "/config/failsafe/seed001_rov6.yaml")));
   static sensors::FakeGpio gpio;
   add("tiller-leak", std::make_unique<sensors::LeakNode>(
                          sensors::load_leak_file(kRoot + "/config/sensors/leak_gpio.yaml"), gpio));

@@ -36,6 +36,8 @@
 #include "control/velocity_pid_node.hpp"
 #include "core/config.hpp"
 #include "esc/esc_node.hpp"
+#include "failsafe/failsafe_config.hpp"
+#include "failsafe/failsafe_node.hpp"
 #include "guidance/follower_config.hpp"
 #include "guidance/path_follower_node.hpp"
 #include "i2c/fake_bus.hpp"
@@ -231,6 +233,12 @@ std::vector<NodeCase> node_cases() {
   for (const auto& f : shipped("launch")) {
     out.push_back({"LaunchMonitor", "tiller-launch " + rel(f), [f](InputContext&) {
                      return std::make_unique<OwnedMonitor>(launch::load_launch_file(f).processes);
+                   }});
+  }
+  for (const auto& f : shipped("failsafe")) {
+    out.push_back({"FailsafeNode", "tiller-failsafe " + rel(f), [f](InputContext&) {
+                     return std::make_unique<failsafe::FailsafeNode>(
+                         failsafe::load_failsafe_file(f));
                    }});
   }
   for (const auto& f : shipped("missions")) {

@@ -132,3 +132,27 @@ TEST(CornerScores, HandMadeRun) {
   EXPECT_EQ(c.steady_samples, 81);
   EXPECT_NEAR(c.steady_cross_track_rms, std::sqrt((41 * 0.25 + 40 * 0.04) / 81), 1e-12);
 }
+
+// The same run followed by station keeping at the goal: 20 s 1 m off the second leg's line,
+// then exactly on the goal. Without an end the goal's closest approach is at the end of the
+// hold (220 s) and the hold counts as the last leg; with end = the completion (199 s), the
+// scores are as above.
+TEST(CornerScores, StationKeepingAfterTheEndDoesNotCount) {
+  using namespace tiller::scores;
+  std::vector<Goal> path = {{0, 0}, {100, 0}, {100, 100}};
+  std::vector<Pose> run;
+  double t = 0;
+  for (int n = 0; n <= 100; ++n) run.push_back({t++, double(n), 0.5, 0});
+  run.push_back({t++, 102, 2, 0});
+  for (int e = 3; e <= 100; ++e) run.push_back({t++, 100.2, double(e), 0});
+  for (int k = 0; k < 20; ++k) run.push_back({t++, 101, 100, 0});
+  run.push_back({t++, 100, 100, 0});
+  const auto all = corner_scores(run, path, 0, 60);
+  EXPECT_DOUBLE_EQ(all.passage[2], 220);
+  EXPECT_EQ(all.steady_samples, 102);
+  const auto c = corner_scores(run, path, 0, 60, 199);
+  EXPECT_DOUBLE_EQ(c.passage[2], 199);
+  EXPECT_EQ(c.steady_samples, 81);
+  EXPECT_NEAR(c.steady_cross_track_rms, std::sqrt((41 * 0.25 + 40 * 0.04) / 81), 1e-12);
+  EXPECT_NEAR(c.max_overshoot, 2.0, 1e-12);
+}
