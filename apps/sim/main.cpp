@@ -8,13 +8,18 @@
 // otherwise the program exits 2 naming the flag, the expected range and the value.
 // --mission FILE starts the vehicle at the mission's start: pose (the launch files pass the
 // mission they fly), so a simulated run starts where the mission file says.
+// With simulated sensors whose GNSS output includes NMEA (--gnss-output nmea|both) it opens a
+// pseudo-terminal for gpsd (lib/sim/nmea_pty.hpp), prints its path, and with --nmea-link PATH
+// makes PATH a symlink to it.
 #include <cstdio>
+#include <memory>
 #include <string>
 
 #include "core/angles.hpp"
 
 #include "runtime/app.hpp"
 #include "runtime/live.hpp"
+#include "sim/nmea_pty.hpp"
 #include "sim/sim_node.hpp"
 #include "sim/sim_options.hpp"
 
@@ -41,6 +46,17 @@ int main(int argc, char** argv) {
                  node.vehicle().thrusters.size(), to_seconds(p.step_us) * 1e3,
                  1.0 / to_seconds(p.odometry_period_us), p.initial_eta[0], p.initial_eta[1],
                  rad_to_deg(p.initial_eta[5]), from.c_str());
+    if (p.sensors.enabled)
+      std::fprintf(stderr, "tiller-sim: simulated sensors from %s; odometry: %s\n",
+                   p.sensors.file.c_str(), p.publish_odometry ? "truth" : "estimated (none)");
+    std::unique_ptr<sim::NmeaPty> pty;
+    if (p.sensors.enabled && p.sensors.gnss_nmea && p.sensors.gnss_timing.enabled) {
+      pty = std::make_unique<sim::NmeaPty>(o.nmea_link);
+      node.set_nmea_sink(pty.get());
+      std::fprintf(stderr, "tiller-sim: NMEA (GGA, GSA, GSV, GST, RMC) on %s%s%s\n",
+                   pty->slave_path().c_str(), o.nmea_link.empty() ? "" : ", linked from ",
+                   o.nmea_link.c_str());
+    }
     LiveExecutor ex(args.lcm_url, args.auth);
     ex.add(node);
     return ex.run();

@@ -141,14 +141,16 @@ class Allocator {
     // norms, and the bound widening of nearest_within_limits (N).
     Eigen::Matrix<double, Eigen::Dynamic, Eigen::Dynamic, 0, kMaxThrusters, kMaxThrusters> null;
     std::array<double, kMaxThrusters> null_row_norm{};
+    std::array<double, kMaxThrusters> null_row_inv{};  // 1 / null_row_norm, 0 for a fixed thruster
     double pad = 0;
     // The attainable set {B[axes, idx] f : lo <= f <= hi} is a zonotope; its facets (unit
     // normal n, support h: n . w <= h), when there are at most kMaxFacets, give the largest
     // scale along any ray without the LP (the LP then only finds the thrust).
-    std::vector<std::array<double, 7>> facets;                     // n[0..m-1], h at [6]; distinct
-    std::array<std::vector<double>, 6> facet_n;                    // facet_n[r][f] = facets[f][r]
-    std::vector<double> facet_h;                                   // facet_h[f] = facets[f][6]
+    std::vector<std::array<double, 7>> facets;   // n[0..m-1], h at [6]; distinct
+    std::array<std::vector<double>, 6> facet_n;  // facet_n[r][f] = facets[f][r], 0-padded to 4k
+    std::vector<double> facet_h;                 // facet_h[f] = facets[f][6]
     std::array<std::array<std::vector<int>, 2>, 6> facet_by_axis;  // [r][0]: n_r > 0, [1]: < 0
+    std::array<std::array<std::vector<double>, 2>, 6> facet_inv_by_axis;  // 1 / |n_r| of those
   };
   static constexpr std::size_t kMaxFacets = 128;
   // Largest mu in [0, cap] with c + mu d in group g's zonotope (c inside); cap if d is 0. Only

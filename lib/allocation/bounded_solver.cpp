@@ -227,16 +227,35 @@ void Allocator::prioritised_facets(const Group& g, const Small& target, const Sm
                                    Small& got, Small& left) const {
   const auto m = static_cast<std::size_t>(g.axes.size());
   const std::size_t nf = g.facet_h.size();
+  // Row by row over contiguous facet normals (facet_n[r]), a row whose coefficient is 0 skipped:
+  // the first group has no compensation at all.
+  // The normals are padded with zeros to a multiple of 4 facets, so the updates run four at a
+  // time (two SSE2 operations each, straight-line code the compiler vectorises at -O2).
+  const std::size_t nf4 = (nf + 3) & ~std::size_t{3};
   double slack[kMaxFacets];
-  for (std::size_t f = 0; f < nf; ++f) {
-    double s = g.facet_h[f];
-    for (std::size_t r = 0; r < m; ++r) s += g.facet_n[r][f] * comp(static_cast<Eigen::Index>(r));
-    slack[f] = s;
+  std::copy(g.facet_h.begin(), g.facet_h.end(), slack);
+  std::fill(slack + nf, slack + nf4, 0.0);
+  auto add = [&](const double* n, double c) {
+    for (std::size_t f = 0; f < nf4; f += 4) {
+      slack[f] += n[f] * c;
+      slack[f + 1] += n[f + 1] * c;
+      slack[f + 2] += n[f + 2] * c;
+      slack[f + 3] += n[f + 3] * c;
+    }
+  };
+  for (std::size_t r = 0; r < m; ++r) {
+    const double c = comp(static_cast<Eigen::Index>(r));
+    if (c != 0.0) add(g.facet_n[r].data(), c);
   }
   got.setZero();
   left = target;
   std::array<int, 6> solved_at;  // a level is solved again only if another moved since
   solved_at.fill(-1);
+  // A one-axis level's blocking facet (position in its facet list) from its last solve: while
+  // that facet has no slack the level cannot move (its room is at most that facet's), so it is
+  // not scanned again. Its direction keeps its sign (left only shrinks), so the list stays.
+  std::array<int, 6> blocker;
+  blocker.fill(-1);
   int changes = 0;
   for (int pass = 0; pass < 4; ++pass) {
     bool progress = false;
@@ -249,12 +268,26 @@ void Allocator::prioritised_facets(const Group& g, const Small& target, const Sm
       if (dmax <= 0.0) continue;
       double best = 1.0;
       if (level.size() == 1) {
+        // n . d = |n_k| |d_k| on these facets: the room is min(slack / |n_k|) / |d_k|, one
+        // division per level.
         const auto k = static_cast<std::size_t>(level[0]);
         const double dk = left(level[0]);
-        for (int f : g.facet_by_axis[k][dk > 0 ? 0 : 1]) {
-          const double nd = g.facet_n[k][static_cast<std::size_t>(f)] * dk;
-          if (slack[f] < best * nd) best = slack[f] / nd;
+        const auto& idx = g.facet_by_axis[k][dk > 0 ? 0 : 1];
+        const double* inv = g.facet_inv_by_axis[k][dk > 0 ? 0 : 1].data();
+        const int bi = blocker[li];
+        const auto bu = static_cast<std::size_t>(bi);
+        if (bi >= 0 && slack[idx[bu]] * inv[bu] <= 1e-12 * std::abs(dk)) continue;  // still blocked
+        double room = kInf;
+        std::size_t arg = 0;
+        for (std::size_t i = 0; i < idx.size(); ++i) {
+          const double r = slack[idx[i]] * inv[i];
+          if (r < room) {
+            room = r;
+            arg = i;
+          }
         }
+        best = std::min(1.0, room / std::abs(dk));
+        if (best < 1.0) blocker[li] = static_cast<int>(arg);
       } else {
         for (std::size_t f = 0; f < nf; ++f) {
           double nd = 0;
@@ -264,10 +297,9 @@ void Allocator::prioritised_facets(const Group& g, const Small& target, const Sm
       }
       const double alpha = std::max(best, 0.0);
       if (!(alpha > 1e-12)) continue;
-      for (std::size_t f = 0; f < nf; ++f) {
-        double nd = 0;
-        for (int k : level) nd += g.facet_n[static_cast<std::size_t>(k)][f] * left(k);
-        slack[f] -= alpha * nd;
+      for (int k : level) {
+        const double c = alpha * left(k);
+        if (c != 0.0) add(g.facet_n[static_cast<std::size_t>(k)].data(), -c);
       }
       for (int k : level) {
         got(k) += alpha * left(k);

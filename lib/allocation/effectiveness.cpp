@@ -141,6 +141,7 @@ Allocator::Allocator(const Vehicle& vehicle)
       double largest = 0;
       for (std::size_t k = 0; k < g.idx.size(); ++k) {
         g.null_row_norm[k] = g.null.row(static_cast<Eigen::Index>(k)).norm();
+        g.null_row_inv[k] = g.null_row_norm[k] > 1e-12 ? 1.0 / g.null_row_norm[k] : 0.0;
         largest = std::max({largest, ghi[k], -glo[k]});
       }
       g.pad = 1e-12 * largest;
@@ -198,14 +199,17 @@ Allocator::Allocator(const Vehicle& vehicle)
     // per axis the facets whose normal has a positive / negative component along it.
     const auto nf = g.facets.size();
     g.facet_h.resize(nf);
-    for (std::size_t r = 0; r < g.axes.size(); ++r) g.facet_n[r].resize(nf);
+    // facet_n rows padded with zeros to a multiple of 4 (prioritised_facets' updates).
+    for (std::size_t r = 0; r < g.axes.size(); ++r)
+      g.facet_n[r].assign((nf + 3) & ~std::size_t{3}, 0.0);
     for (std::size_t f = 0; f < nf; ++f) {
       g.facet_h[f] = g.facets[f][6];
       for (std::size_t r = 0; r < g.axes.size(); ++r) {
         const double c = g.facets[f][r];
         g.facet_n[r][f] = c;
-        if (c > 1e-12) g.facet_by_axis[r][0].push_back(static_cast<int>(f));
-        if (c < -1e-12) g.facet_by_axis[r][1].push_back(static_cast<int>(f));
+        if (std::abs(c) <= 1e-12) continue;
+        g.facet_by_axis[r][c > 0 ? 0 : 1].push_back(static_cast<int>(f));
+        g.facet_inv_by_axis[r][c > 0 ? 0 : 1].push_back(1.0 / std::abs(c));
       }
     }
     for (const auto& level : vehicle.allocation.priority) {

@@ -31,9 +31,8 @@ bool Allocator::nearest_within_limits(const Group& g, ThrustVec& f) const {
   double v[kMaxThrusters];  // thrust at the current z
   for (int j = 0; j < n; ++j) v[j] = f(j);
   auto violation = [&](int c) {
-    const int j = c % n;
-    const auto jj = static_cast<std::size_t>(j);
-    return c < n ? v[j] - (g.lp.hi[jj] + pad) : (g.lp.lo[jj] - pad) - v[j];
+    if (c < n) return v[c] - (g.lp.hi[static_cast<std::size_t>(c)] + pad);
+    return (g.lp.lo[static_cast<std::size_t>(c - n)] - pad) - v[c - n];
   };
   if (k == 1) {  // an interval on the line: z = the clamp of 0 into it
     double lo_z = -kInf, hi_z = kInf;
@@ -58,14 +57,19 @@ bool Allocator::nearest_within_limits(const Group& g, ThrustVec& f) const {
   for (int outer = 0; outer < 4 * n + 8 && !stuck; ++outer) {
     int q = -1;
     double worst = tol;
-    for (int c = 0; c < 2 * n; ++c) {
-      if (active[c]) continue;
-      const double rn = g.null_row_norm[static_cast<std::size_t>(c % n)];
-      if (rn <= 1e-12) continue;  // fixed by the wrench alone: nothing to choose
-      const double s = violation(c) / rn;
-      if (s > worst) {
-        worst = s;
-        q = c;
+    for (int j = 0; j < n; ++j) {  // both limits of thruster j: constraints j and j + n
+      const auto jj = static_cast<std::size_t>(j);
+      const double inv = g.null_row_inv[jj];  // 0: fixed by the wrench alone, nothing to choose
+      if (inv == 0.0) continue;
+      const double up = (v[j] - (g.lp.hi[jj] + pad)) * inv;
+      const double down = ((g.lp.lo[jj] - pad) - v[j]) * inv;
+      if (up > worst && !active[j]) {
+        worst = up;
+        q = j;
+      }
+      if (down > worst && !active[j + n]) {
+        worst = down;
+        q = j + n;
       }
     }
     if (q < 0) {

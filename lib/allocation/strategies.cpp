@@ -59,8 +59,15 @@ bool Allocator::allocate(const Wrench& tau, AllocationResult& out) const {
     const auto na = static_cast<Eigen::Index>(g.axes.size());
     Small target(na);
     for (Eigen::Index k = 0; k < na; ++k) target(k) = tau(g.axes[static_cast<std::size_t>(k)]);
-    const Small comp = g.rows * f;  // what earlier groups already do on these axes
-    const ThrustVec b = -(g.pinv * comp);
+    // What earlier groups already do on these axes, and its minimum-norm compensation (both 0
+    // for the first group: nothing is solved yet).
+    const bool first = &g == &groups_.front();
+    Small comp = Small::Zero(na);
+    ThrustVec b = ThrustVec::Zero(static_cast<Eigen::Index>(g.idx.size()));
+    if (!first) {
+      comp = g.rows * f;
+      b = -(g.pinv * comp);
+    }
     ThrustVec fg;
     switch (strategy_) {
       case Strategy::kDirectionPreserving: {
@@ -112,7 +119,8 @@ bool Allocator::allocate(const Wrench& tau, AllocationResult& out) const {
         Small left = target;
         ThrustVec f0;
         // (max_scale(g, x, x) >= 0: x is within limits.)
-        const bool facets = g.null_dim > 0 && !g.facets.empty() && max_scale(g, b, b) >= 0;
+        const bool facets =
+            g.null_dim > 0 && !g.facets.empty() && (first || max_scale(g, b, b) >= 0);
         if (facets) {
           // Spare thrusters: each level takes what the whole null space allows, with every other
           // axis held where it is (earlier levels at what they got, later ones so far), from the

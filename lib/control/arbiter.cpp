@@ -49,6 +49,15 @@ ArbiterDecision Arbiter::decide(const ArbiterInput& in) {
       }
       break;
     }
+    case controller_mode_t::STABILISE:
+    case controller_mode_t::DEPTH_HOLD:
+    case controller_mode_t::HEADING_HOLD:
+    case controller_mode_t::RATE:
+    case controller_mode_t::SURFACE:
+    case controller_mode_t::POSITION_HOLD:
+      d.source = wrench_t::SOURCE_NONE;
+      d.reason = "an ROV mode (tiller-rov-control), not for this vehicle: neutral";
+      break;
     default:
       d.source = wrench_t::SOURCE_NONE;
       d.reason = "unknown mode (neutral)";

@@ -16,6 +16,7 @@
 //                         SOURCE_STATION_KEEP, which holds where the vehicle is (or the
 //                         follower's target); with hold_position false (a vehicle that cannot
 //                         hold) -> SOURCE_NONE (neutral; the mixer disarms after its limit).
+// The ROV modes (STABILISE .. POSITION_HOLD, decided by tiller-rov-control) -> SOURCE_NONE.
 // Before any TILLER_MODE arrives, default_mode applies. A mode stays in force until changed;
 // leaving WAYPOINTING forgets the path (back in it, no path means neutral again).
 // Pure logic: decide() takes the inputs and the time and returns the decision.

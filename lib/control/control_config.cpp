@@ -2,6 +2,10 @@
 
 #include <tiller/controller_mode_t.hpp>
 
+#include <filesystem>
+
+#include "core/config_files.hpp"
+
 namespace tiller::control {
 
 using config::Range;
@@ -41,6 +45,24 @@ static ControllerNodeCommon load_common(const config::Value& v) {
   return c;
 }
 
+MunkModel vehicle_munk_model(const std::string& vehicle_file) {
+  const auto root = config::Value::load_file(vehicle_file);
+  root.mark_used();  // the mixer and the simulator check this file strictly; we read a part
+  const config::Value d = root.at("dynamics", "the simulator's dynamics section");
+  if (d.string("model") != "surface_3dof") d.at("model").fail("surface_3dof (a [u v r] hull)");
+  // The matrix the simulator's Coriolis term uses (what makes the moment).
+  const config::Value m =
+      d.has("coriolis_mass_matrix") ? d.at("coriolis_mass_matrix") : d.at("mass_matrix");
+  MunkModel h;
+  h.m11 = m[0].as_numbers(3)[0];
+  h.m22 = m[1].as_numbers(3)[1];
+  h.m23 = m[1].as_numbers(3)[2];
+  h.y_v = d.numbers("linear_damping", 3)[1];
+  if (!(h.m11 > 0 && h.m22 > 0)) m.fail("positive surge and sway masses (kg, with added mass)");
+  if (!(h.y_v > 0)) d.at("linear_damping").fail("a positive sway damping y_v (N s/m)");
+  return h;
+}
+
 VelocityPidParams load_velocity_pid_params(const config::Value& v) {
   VelocityPidParams p;
   p.surge = load_axis_gains(v.at("surge"));
@@ -49,6 +71,19 @@ VelocityPidParams load_velocity_pid_params(const config::Value& v) {
   p.heading_kp = v.number("heading_kp", Range::at_least(0));
   p.max_yaw_rate = v.number("max_yaw_rate", Range::positive());
   p.max_dt = v.number("max_dt_s", Range::positive());
+  if (auto mc = v.find("munk_compensation")) {
+    const double fraction = mc->number("fraction", {0, 2});
+    const config::Value vf = mc->at("vehicle_file", "a vehicle file (config/vehicles/*.yaml)");
+    const std::string file = config::resolve_near(vf.as_string(), v.file());
+    if (!std::filesystem::exists(file)) {
+      vf.fail(
+          "a vehicle file (absolute, or relative to this file's folder or one of its parents); "
+          "not found: " +
+          vf.as_string());
+    }
+    p.munk = vehicle_munk_model(file);
+    p.munk.fraction = fraction;
+  }
   return p;
 }
 

@@ -6,6 +6,7 @@
 #pragma once
 
 #include <cstdint>
+#include <string>
 
 #include "control/arbiter.hpp"
 #include "control/station_pid.hpp"
@@ -42,6 +43,9 @@ struct StationKeepNodeParams {
 };
 
 AxisGains load_axis_gains(const config::Value& v);
+// The Munk model's numbers from a vehicle file's surface_3dof dynamics: m11, m22, m23 of its
+// coriolis_mass_matrix (else mass_matrix), y_v of linear_damping; fraction 1.
+MunkModel vehicle_munk_model(const std::string& vehicle_file);
 VelocityPidParams load_velocity_pid_params(const config::Value& v);
 StationPidParams load_station_pid_params(const config::Value& v);
 ArbiterParams load_arbiter_params(const config::Value& v);

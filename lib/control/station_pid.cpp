@@ -5,6 +5,12 @@
 
 namespace tiller::control {
 
+double StationPid::force_weight(double fmag) const {
+  const double span = p_.weathervane_full_force - p_.weathervane_min_force;
+  return span > 0 ? std::clamp((fmag - p_.weathervane_min_force) / span, 0.0, 1.0)
+                  : (fmag > p_.weathervane_min_force ? 1.0 : 0.0);
+}
+
 PidTerms StationPid::step(const StationPidInput& in) {
   PidTerms t;
   const double vals[] = {
@@ -26,10 +32,20 @@ PidTerms StationPid::step(const StationPidInput& in) {
   // (issue 13 finding 3) sway never integrated: after a turn the world-fixed integral had a
   // sideways part that could not unwind, and the heading loop settled where the sway P term
   // cancelled it, a standing offset I_y / kp_y (0.67 m) to the side.
+  // The sideways part is produced only as far as the heading follows the force, so it integrates
+  // with the weight the heading gives the force (0 below weathervane_min_force, where the target
+  // heading is held: in still water a small sideways error inside that band would otherwise wind
+  // the integral up until the boat turned across the target heading and wandered).
   const bool freeze_y = p_.weathervane ? in.freeze[0] : in.freeze[1];
+  double y_weight = 1.0;
+  if (p_.weathervane) {
+    const double fx0 = p_.x.kp * ex - p_.x.kd * in.u + (c * i_world_[0] + s * i_world_[1]);
+    const double fy0 = p_.y.kp * ey - p_.y.kd * in.v + (-s * i_world_[0] + c * i_world_[1]);
+    y_weight = force_weight(std::hypot(fx0, fy0));
+  }
   if (integrate) {
     const double dix = in.freeze[0] ? 0.0 : p_.x.ki * ex * in.dt;
-    const double diy = freeze_y ? 0.0 : p_.y.ki * ey * in.dt;
+    const double diy = freeze_y ? 0.0 : y_weight * p_.y.ki * ey * in.dt;
     i_world_[0] += c * dix - s * diy;
     i_world_[1] += s * dix + c * diy;
   }
@@ -79,10 +95,7 @@ PidTerms StationPid::step(const StationPidInput& in) {
                                ? std::clamp((dist - p_.reverse_radius) / p_.reverse_blend, 0.0, 1.0)
                                : (dist >= p_.reverse_radius ? 1.0 : 0.0);
       const double d_force = w_bow * d_bow + (1 - w_bow) * d_axis;
-      const double span = p_.weathervane_full_force - p_.weathervane_min_force;
-      const double w_force = span > 0
-                                 ? std::clamp((fmag - p_.weathervane_min_force) / span, 0.0, 1.0)
-                                 : (fmag > p_.weathervane_min_force ? 1.0 : 0.0);
+      const double w_force = force_weight(fmag);
       epsi = w_force * d_force + (1 - w_force) * epsi_target;
       t.setpoint[2] = wrap_pi(in.heading + epsi);
     }

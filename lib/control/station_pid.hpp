@@ -67,6 +67,9 @@ class StationPid {
   const StationPidParams& params() const { return p_; }
 
  private:
+  // Weathervane: how far the heading follows the force of magnitude fmag (N): 0 below
+  // weathervane_min_force, 1 above weathervane_full_force, linear between.
+  double force_weight(double fmag) const;
   StationPidParams p_;
   std::array<double, 2> i_world_{0, 0};  // N, north/east
   double i_yaw_ = 0;                     // N m

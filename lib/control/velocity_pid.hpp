@@ -11,6 +11,17 @@
 // mixer reduced that axis (saturation, or no authority), and is bounded by i_limit (N or N m).
 // Outputs are clamped to max_output. Non-finite inputs give a zero output and leave the state
 // untouched. step() allocates nothing.
+//
+// Munk-moment cancellation (MunkModel, off unless configured; docs/algorithms.md, "Heading on
+// a course-unstable hull"): a hull whose sway added mass exceeds its surge mass (m22 > m11, the
+// Otter) turns sideways to the flow under the Munk moment (m22 - m11) u v, which grows with
+// speed until the yaw-rate loop can no longer hold it (a sustained oscillation above 1.8 m/s on
+// the Otter). The hull's sway equation m22 dv/dt + m23 dr/dt + y_v v + m11 u r = 0, driven by
+// the measured surge speed u and yaw rate r, predicts the sway velocity through the water v_hat
+// that the turning makes (no sway measurement, so a current's drift does not enter), and the
+// yaw output adds fraction * (m22 - m11) u v_hat: the hull's own moment, cancelled. The term is
+// part of the yaw feed-forward (PidTerms::ff) in the heading and rate modes; not in the torque
+// mode.
 #pragma once
 
 #include <array>
@@ -28,11 +39,23 @@ struct AxisGains {
   double max_output = 1e5;  // N: bound of the axis output
 };
 
+// The hull's surge-sway-yaw numbers the Munk-moment cancellation uses (from its vehicle file,
+// [u v r] with added mass). y_v = 0: off.
+struct MunkModel {
+  double m11 = 0;       // kg: surge mass, as in the hull's Coriolis matrix
+  double m22 = 0;       // kg: sway mass
+  double m23 = 0;       // kg m: sway-yaw coupling
+  double y_v = 0;       // N s/m: linear sway damping
+  double fraction = 1;  // of the moment cancelled
+  bool enabled() const { return y_v > 0 && m22 > 0; }
+};
+
 struct VelocityPidParams {
   AxisGains surge, sway, yaw;  // yaw: on yaw rate, outputs N m
-  double heading_kp = 1.0;     // (rad/s) per rad of heading error
-  double max_yaw_rate = 0.5;   // rad/s
-  double max_dt = 0.5;         // s: longer gaps do not integrate
+  MunkModel munk;
+  double heading_kp = 1.0;    // (rad/s) per rad of heading error
+  double max_yaw_rate = 0.5;  // rad/s
+  double max_dt = 0.5;        // s: longer gaps do not integrate
 };
 
 enum class YawMode { kHeading, kRate, kTorque };
@@ -57,13 +80,19 @@ class VelocityPid {
  public:
   explicit VelocityPid(const VelocityPidParams& p = {}) : p_(p) {}
   PidTerms step(const VelocityPidInput& in);
-  void reset() { integral_ = {0, 0, 0}; }
+  // Integrals and the sway prediction to zero.
+  void reset() {
+    integral_ = {0, 0, 0};
+    sway_momentum_ = 0;
+  }
   const std::array<double, 3>& integral() const { return integral_; }
   const VelocityPidParams& params() const { return p_; }
 
  private:
   VelocityPidParams p_;
   std::array<double, 3> integral_{0, 0, 0};  // N, N, N m (already multiplied by ki)
+  double sway_momentum_ = 0;                 // m22 v_hat + m23 r, kg m/s (Munk model)
+  double munk_moment(double u, double r, double dt);
 };
 
 }  // namespace tiller::control

@@ -1,9 +1,11 @@
 #include "core/config.hpp"
+#include "core/config_files.hpp"
 
 #include <yaml-cpp/yaml.h>
 
 #include <algorithm>
 #include <cmath>
+#include <filesystem>
 #include <fstream>
 #include <map>
 #include <set>
@@ -395,6 +397,16 @@ void Value::mark_used() const {
   };
   doc_->used.insert(path_);
   Marker{*doc_}.walk(*node_, path_);
+}
+
+std::string resolve_near(const std::string& rel, const std::string& config_file) {
+  namespace fs = std::filesystem;
+  if (fs::path(rel).is_absolute() || config_file.empty()) return rel;
+  for (fs::path dir = fs::absolute(config_file).parent_path();; dir = dir.parent_path()) {
+    if (fs::exists(dir / rel)) return (dir / rel).lexically_normal().string();
+    if (dir == dir.root_path() || dir.empty()) break;
+  }
+  return rel;
 }
 
 }  // namespace tiller::config

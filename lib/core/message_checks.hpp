@@ -75,10 +75,10 @@ inline bool heading(double a) {
   return std::isfinite(a) && a > -kPi && a <= kPi;
 }
 inline bool source(std::int8_t s) {
-  return s >= wrench_t::SOURCE_NONE && s <= wrench_t::SOURCE_STATION_KEEP;
+  return s >= wrench_t::SOURCE_NONE && s <= wrench_t::SOURCE_ROV_CONTROL;
 }
 inline bool mode(std::int8_t m) {
-  return m >= controller_mode_t::MANUAL_OPEN_LOOP && m <= controller_mode_t::WAYPOINTING;
+  return m >= controller_mode_t::MANUAL_OPEN_LOOP && m <= controller_mode_t::POSITION_HOLD;
 }
 // A 3x3 row-major covariance: finite, diagonal >= 0 (all zero: unknown).
 inline bool covariance3(const double (&c)[9]) {
@@ -91,10 +91,11 @@ bool has(const V& v, std::int32_t n) {
 }
 }  // namespace detail
 
-// odometry_t: position and velocity finite; roll and yaw in (-pi, pi], pitch in
-// [-pi/2, pi/2] (ZYX Euler); covariances 0 or 36 finite entries.
+// odometry_t: known validity bits only (0..31); position and velocity finite; roll and yaw in
+// (-pi, pi], pitch in [-pi/2, pi/2] (ZYX Euler); covariances 0 or 36 finite entries.
 inline Reason check(const odometry_t& m) {
   using namespace detail;
+  if (m.valid < 0 || m.valid > 31) return "valid.unknown";
   if (!finite(m.position, 3)) return "position.nan";
   if (!finite(m.orientation, 3)) return "orientation.nan";
   if (!heading(m.orientation[0])) return "roll.range";

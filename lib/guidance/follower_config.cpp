@@ -5,17 +5,9 @@
 #include <filesystem>
 #include <string>
 
-namespace tiller::guidance {
+#include "core/config_files.hpp"
 
-std::string resolve_near(const std::string& rel, const std::string& config_file) {
-  namespace fs = std::filesystem;
-  if (fs::path(rel).is_absolute() || config_file.empty()) return rel;
-  for (fs::path dir = fs::absolute(config_file).parent_path();; dir = dir.parent_path()) {
-    if (fs::exists(dir / rel)) return (dir / rel).lexically_normal().string();
-    if (dir == dir.root_path() || dir.empty()) break;
-  }
-  return rel;
-}
+namespace tiller::guidance {
 
 double vehicle_braking_decel(const std::string& vehicle_file) {
   const auto root = config::Value::load_file(vehicle_file);
@@ -57,7 +49,7 @@ FollowerParams load_follower_params(const config::Value& v) {
     const config::Value b = v.at("braking_decel");
     const double fraction = b.number("fraction", {1e-3, 1});
     const config::Value vf = b.at("vehicle_file", "a vehicle file (config/vehicles/*.yaml)");
-    const std::string file = resolve_near(vf.as_string(), v.file());
+    const std::string file = config::resolve_near(vf.as_string(), v.file());
     if (!std::filesystem::exists(file)) {
       vf.fail(
           "a vehicle file (absolute, or relative to this file's folder or one of its "

@@ -21,9 +21,6 @@ FollowerParams load_follower_params(const config::Value& v);
 
 // Reverse surge thrust / m11 of a vehicle file (m/s^2): full astern, no drag.
 double vehicle_braking_decel(const std::string& vehicle_file);
-// `rel` if absolute or not found; else the first of config_file's folder and its parents
-// that holds it.
-std::string resolve_near(const std::string& rel, const std::string& config_file);
 
 // The path follower node's own settings (rates and freshness), from the same file.
 struct FollowerNodeParams {

@@ -23,6 +23,7 @@ std::int8_t source_from_name(const std::string& s) {
   if (s == "manual_demand") return wrench_t::SOURCE_MANUAL_DEMAND;
   if (s == "velocity_pid") return wrench_t::SOURCE_VELOCITY_PID;
   if (s == "station_keep") return wrench_t::SOURCE_STATION_KEEP;
+  if (s == "rov_control") return wrench_t::SOURCE_ROV_CONTROL;
   return wrench_t::SOURCE_NONE;
 }
 
@@ -54,9 +55,9 @@ MixerParams load_mixer_params(const config::Value& root) {
         rel);
   p.vehicle_file = chosen.lexically_normal().string();
   p.rate_hz = root.number_or("rate_hz", 50.0, {1.0, 1000.0});
-  p.fallback_source =
-      source_from_name(root.choice_or("fallback_source", "manual_demand",
-                                      {"manual_demand", "velocity_pid", "station_keep", "none"}));
+  p.fallback_source = source_from_name(
+      root.choice_or("fallback_source", "manual_demand",
+                     {"manual_demand", "velocity_pid", "station_keep", "rov_control", "none"}));
   p.publish_every_input = root.choice_or("publish_at_once", "active_source",
                                          {"active_source", "every_input"}) == "every_input";
   if (auto f = root.find("freshness")) {
@@ -108,9 +109,11 @@ MixerNode::MixerNode(const MixerParams& params, const Vehicle& vehicle)
       }()) {
   velocity_.fresh.set_limit(p_.wrench_timeout_us);
   station_.fresh.set_limit(p_.wrench_timeout_us);
+  rov_.fresh.set_limit(p_.wrench_timeout_us);
   subscribe(channels::kManualDemand, &MixerNode::on_manual);
   subscribe(channels::kWrenchVelocity, &MixerNode::on_wrench_velocity);
   subscribe(channels::kWrenchStation, &MixerNode::on_wrench_station);
+  subscribe(channels::kWrenchRov, &MixerNode::on_wrench_rov);
   subscribe(channels::kArbitration, &MixerNode::on_arbitration);
   subscribe(channels::kArmState, &MixerNode::on_arm_state);
   subscribe(channels::kMissionCommand, &MixerNode::on_mission_command);
@@ -181,7 +184,9 @@ void MixerNode::on_manual(const manual_demand_t& m, TimeUs now) {
 
 void MixerNode::on_wrench(WrenchInput& in, std::int8_t source, const wrench_t& m, TimeUs now) {
   if (!on_time(in.fresh, m.utime, now,
-               source == wrench_t::SOURCE_VELOCITY_PID ? "wrench_velocity" : "wrench_station"))
+               source == wrench_t::SOURCE_VELOCITY_PID  ? "wrench_velocity"
+               : source == wrench_t::SOURCE_ROV_CONTROL ? "wrench_rov"
+                                                        : "wrench_station"))
     return;
   if (checks::check(m) != nullptr) {  // unknown source, NaN, beyond +-1e5
     in.fresh.reset();
@@ -200,6 +205,9 @@ void MixerNode::on_wrench_velocity(const wrench_t& m, TimeUs now) {
 }
 void MixerNode::on_wrench_station(const wrench_t& m, TimeUs now) {
   on_wrench(station_, wrench_t::SOURCE_STATION_KEEP, m, now);
+}
+void MixerNode::on_wrench_rov(const wrench_t& m, TimeUs now) {
+  on_wrench(rov_, wrench_t::SOURCE_ROV_CONTROL, m, now);
 }
 
 // Arbitration and arm state publish at once when they change what the mixer does (the active
@@ -328,7 +336,8 @@ void MixerNode::output(TimeUs now) {
   for (int i = 0; i < 6; ++i) gi.pilot[static_cast<std::size_t>(i)] = manual_(i);
   gi.source_fresh = (active_ == wrench_t::SOURCE_MANUAL_DEMAND && gi.pilot_fresh) ||
                     (active_ == wrench_t::SOURCE_VELOCITY_PID && velocity_.fresh.fresh(now)) ||
-                    (active_ == wrench_t::SOURCE_STATION_KEEP && station_.fresh.fresh(now));
+                    (active_ == wrench_t::SOURCE_STATION_KEEP && station_.fresh.fresh(now)) ||
+                    (active_ == wrench_t::SOURCE_ROV_CONTROL && rov_.fresh.fresh(now));
   gi.test = test_;
   gi.test.fresh = test_fresh_.fresh(now);
   gi.n_thrusters = alloc_->size();
@@ -352,14 +361,16 @@ void MixerNode::output(TimeUs now) {
     ok = alloc_->allocate(velocity_.tau, result_);
   } else if (active_ == wrench_t::SOURCE_STATION_KEEP && station_.fresh.fresh(now)) {
     ok = alloc_->allocate(station_.tau, result_);
+  } else if (active_ == wrench_t::SOURCE_ROV_CONTROL && rov_.fresh.fresh(now)) {
+    ok = alloc_->allocate(rov_.tau, result_);
   } else {
     ++*neutral_no_input_;
   }
   if (!ok) alloc_->neutral(result_);
   // Fresh-to-stale transitions of every input feed the heartbeat's "stale" counter.
   const std::int64_t stale_now = manual_fresh_.stale_events() + velocity_.fresh.stale_events() +
-                                 station_.fresh.stale_events() + arb_fresh_.stale_events() +
-                                 arm_fresh_.stale_events();
+                                 station_.fresh.stale_events() + rov_.fresh.stale_events() +
+                                 arb_fresh_.stale_events() + arm_fresh_.stale_events();
   if (stale_now > stale_seen_) {
     count_stale(stale_now - stale_seen_);
     stale_seen_ = stale_now;

@@ -4,8 +4,9 @@
 // ACTIVE source and when the active source or the arm state changes (a second wrench feed or a
 // joystick that is not in charge does not multiply the command rate).
 //
-// Inputs: TILLER_MANUAL_DEMAND (normalised stick vector, open loop), TILLER_WRENCH_VELOCITY and
-// TILLER_WRENCH_STATION (wrench, N / N m, body FRD), TILLER_ARBITRATION (which source is
+// Inputs: TILLER_MANUAL_DEMAND (normalised stick vector, open loop), TILLER_WRENCH_VELOCITY,
+// TILLER_WRENCH_STATION and TILLER_WRENCH_ROV (tiller-rov-control's assisted ROV modes) (wrench,
+// N / N m, body FRD), TILLER_ARBITRATION (which source is
 // active), TILLER_ARM_STATE (tiller-esc holds the arm latch), TILLER_MISSION_COMMAND (the
 // operator's START / RESUME / RELEASE for the autonomy).
 // Safety: a message with NaN/inf or out of range is dropped, counted, and makes that input
@@ -92,6 +93,7 @@ class MixerNode : public Node {
   void on_manual(const manual_demand_t& m, TimeUs now);
   void on_wrench_velocity(const wrench_t& m, TimeUs now);
   void on_wrench_station(const wrench_t& m, TimeUs now);
+  void on_wrench_rov(const wrench_t& m, TimeUs now);
   void on_arbitration(const arbitration_t& m, TimeUs now);
   void on_arm_state(const arm_state_t& m, TimeUs now);
   void on_mission_command(const mission_command_t& m, TimeUs now);
@@ -119,7 +121,7 @@ class MixerNode : public Node {
   std::unique_ptr<Allocator> alloc_;
   Freshness manual_fresh_, arb_fresh_, arm_fresh_;
   Wrench manual_ = Wrench::Zero();
-  WrenchInput velocity_, station_;
+  WrenchInput velocity_, station_, rov_;
   std::int8_t arb_source_ = wrench_t::SOURCE_NONE;
   std::int8_t arb_mode_ = 0;
   bool armed_ = false;

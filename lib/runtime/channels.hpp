@@ -21,6 +21,7 @@ inline constexpr const char* kPathProgress = "TILLER_PATH_PROGRESS";          //
 inline constexpr const char* kStationTarget = "TILLER_STATION_TARGET";        // station_target_t
 inline constexpr const char* kWrenchVelocity = "TILLER_WRENCH_VELOCITY";      // wrench_t
 inline constexpr const char* kWrenchStation = "TILLER_WRENCH_STATION";        // wrench_t
+inline constexpr const char* kWrenchRov = "TILLER_WRENCH_ROV";                // wrench_t
 inline constexpr const char* kPidVelocity = "TILLER_PID_VELOCITY";            // pid_terms_t
 inline constexpr const char* kPidStation = "TILLER_PID_STATION";              // pid_terms_t
 inline constexpr const char* kAllocationStatus = "TILLER_ALLOCATION_STATUS";  // allocation_status_t

@@ -1,6 +1,9 @@
 #include "runtool/run.hpp"
 
 #include <tiller/path_progress_t.hpp>
+#include <tiller/velocity_setpoint_t.hpp>
+
+#include <cmath>
 
 #include <filesystem>
 #include <initializer_list>
@@ -121,8 +124,10 @@ RunOutcome run(const RunSpec& spec) {
   control::StationKeepNode skeep(control::load_station_keep_node_params(croot));
 
   const auto groot = load(f.guidance, "guidance", spec.settings);
-  guidance::PathFollowerNode follower(guidance::load_follower_node_params(groot));
+  const auto fparams = guidance::load_follower_node_params(groot);
   groot.check_all_used();
+  out.max_speed = fparams.follower.max_speed;
+  guidance::PathFollowerNode follower(fparams);
 
   mission::MissionNode mnode(m, 1, kUsPerSecond);
 
@@ -139,9 +144,14 @@ RunOutcome run(const RunSpec& spec) {
   }
   std::vector<Event> scored;
   path_progress_t pr;
+  velocity_setpoint_t vsp;
   ex.observe([&](const std::string& ch, const std::uint8_t* d, int n, TimeUs t) {
     ++out.messages;
     if (log) log->write(ch, d, n, t);
+    if (ch == channels::kVelocitySetpoint && vsp.decode(d, 0, n) == n && vsp.active) {
+      out.max_setpoint_speed =
+          std::max(out.max_setpoint_speed, std::hypot(vsp.velocity[0], vsp.velocity[1]));
+    }
     if (ch == channels::kGroundTruth || ch == channels::kOdometry || ch == channels::kPath ||
         ch == channels::kPathProgress) {
       scored.push_back(Event{ch, t, std::vector<std::uint8_t>(d, d + n)});

@@ -58,9 +58,11 @@ struct RunOutcome {
   RunFiles files;
   scores::RunScores scores;
   bool completed = false;
-  double completed_at = -1;                                   // s
-  double sim_s = 0;                                           // simulated seconds run
-  std::size_t messages = 0;                                   // delivered (and logged)
+  double completed_at = -1;       // s
+  double sim_s = 0;               // simulated seconds run
+  std::size_t messages = 0;       // delivered (and logged)
+  double max_setpoint_speed = 0;  // m/s: largest |velocity| of an active TILLER_VELOCITY_SETPOINT
+  double max_speed = 0;           // m/s: the follower's max_speed (guidance config)
   double start_north = 0, start_east = 0, start_heading = 0;  // where the vehicle started
 };
 

@@ -13,6 +13,8 @@
 #include <sstream>
 #include <stdexcept>
 
+#include "scores/path_metrics.hpp"
+
 namespace tiller::runtool {
 
 namespace {
@@ -54,7 +56,8 @@ std::string encode_row(const Row& r) {
   os.precision(17);
   os << "ok " << r.completed << " " << r.xte_rms << " " << r.xte_max << " " << r.time_s << " "
      << r.final_m << " " << r.heading_rad << " " << r.vrx_way << " " << r.vrx_sk << " " << r.sim_s
-     << " " << r.missed << "\n";
+     << " " << r.missed << " " << r.steady_rms << " " << r.overshoot << " " << r.max_setpoint << " "
+     << r.max_speed << " " << r.path_m << " " << r.final_30 << "\n";
   return os.str();
 }
 
@@ -65,7 +68,8 @@ Row decode_row(const std::string& text) {
   is >> tag;
   if (tag == "ok") {
     is >> r.completed >> r.xte_rms >> r.xte_max >> r.time_s >> r.final_m >> r.heading_rad >>
-        r.vrx_way >> r.vrx_sk >> r.sim_s >> r.missed;
+        r.vrx_way >> r.vrx_sk >> r.sim_s >> r.missed >> r.steady_rms >> r.overshoot >>
+        r.max_setpoint >> r.max_speed >> r.path_m >> r.final_30;
     r.ok = !is.fail();
     if (!r.ok) r.error = "unreadable result '" + text + "'";
   } else if (tag == "error") {
@@ -217,6 +221,27 @@ Row row_of(const RunOutcome& o) {
   r.vrx_sk = o.scores.station_keeping;
   r.sim_s = o.sim_s;
   r.missed = p.waypoints_missed;
+  const auto c = scores::corner_scores(o.scores.poses, o.scores.path, o.scores.start, 60,
+                                       o.completed ? o.completed_at : 1e300);
+  r.steady_rms = c.steady_cross_track_rms;
+  r.overshoot = c.max_overshoot;
+  r.max_setpoint = o.max_setpoint_speed;
+  r.max_speed = o.max_speed;
+  for (std::size_t k = 1; k < o.scores.path.size(); ++k) {
+    r.path_m += std::hypot(o.scores.path[k].north - o.scores.path[k - 1].north,
+                           o.scores.path[k].east - o.scores.path[k - 1].east);
+  }
+  if (o.completed && !o.scores.path.empty() && !o.scores.poses.empty()) {
+    const auto& g = o.scores.path.back();
+    const scores::Pose* at = &o.scores.poses.back();
+    for (const auto& q : o.scores.poses) {
+      if (q.t >= o.completed_at + 30) {
+        at = &q;
+        break;
+      }
+    }
+    r.final_30 = std::hypot(at->north - g.north, at->east - g.east);
+  }
   return r;
 }
 
@@ -308,13 +333,17 @@ constexpr Metric kMetrics[] = {
     {"final_m", "final position error [m]", &Row::final_m},
     {"vrx_way", "VRX wayfinding", &Row::vrx_way},
     {"vrx_sk", "VRX station keeping", &Row::vrx_sk},
+    {"steady_rms", "steady cross-track RMS (60 s after each passage) [m]", &Row::steady_rms},
+    {"overshoot", "largest corner overshoot [m]", &Row::overshoot},
+    {"max_sp", "largest speed setpoint [m/s]", &Row::max_setpoint},
 };
 
 // A score shown for a row, or NaN when it has none (failed, or not completed for the time).
 double value_of(const Row& r, const Metric& m) {
   if (!r.ok) return NAN;
   const double v = r.*m.field;
-  if ((m.field == &Row::time_s || m.field == &Row::vrx_sk) && v < 0) return NAN;
+  if ((m.field == &Row::time_s || m.field == &Row::vrx_sk || m.field == &Row::steady_rms) && v < 0)
+    return NAN;
   return v;
 }
 }  // namespace
@@ -328,8 +357,9 @@ void print_table(const std::vector<Axis>& axes, const std::vector<Row>& rows, st
   }
   for (std::size_t k = 0; k < axes.size(); ++k)
     std::fprintf(out, "%-*s  ", width[k], axes[k].name.c_str());
-  std::fprintf(out, "%8s %8s %7s %8s %8s %8s %6s %5s\n", "xte_rms", "xte_max", "time_s", "final_m",
-               "vrx_way", "vrx_sk", "missed", "done");
+  std::fprintf(out, "%8s %8s %7s %8s %8s %8s %10s %9s %7s %6s %5s\n", "xte_rms", "xte_max",
+               "time_s", "final_m", "vrx_way", "vrx_sk", "steady_rms", "overshoot", "max_sp",
+               "missed", "done");
   for (const auto& r : rows) {
     for (std::size_t k = 0; k < axes.size(); ++k)
       std::fprintf(out, "%-*s  ", width[k], label(axes[k], axes[k].values[r.index[k]]).c_str());
@@ -337,8 +367,12 @@ void print_table(const std::vector<Axis>& axes, const std::vector<Row>& rows, st
       std::fprintf(out, "error: %s\n", r.error.c_str());
       continue;
     }
-    std::fprintf(out, "%8.3f %8.3f %7.1f %8.3f %8.3f %8.3f %6d %5s\n", r.xte_rms, r.xte_max,
-                 r.time_s, r.final_m, r.vrx_way, r.vrx_sk, r.missed, r.completed ? "yes" : "no");
+    char steady[16] = "         -";  // no leg long enough
+    if (r.steady_rms >= 0) std::snprintf(steady, sizeof steady, "%10.4f", r.steady_rms);
+    std::fprintf(out, "%8.3f %8.3f %7.1f %8.3f %8.3f %8.3f %s %9.3f %6.3f%s %6d %5s\n", r.xte_rms,
+                 r.xte_max, r.time_s, r.final_m, r.vrx_way, r.vrx_sk, steady, r.overshoot,
+                 r.max_setpoint, r.max_setpoint > r.max_speed + 1e-9 ? "!" : " ", r.missed,
+                 r.completed ? "yes" : "no");
   }
   // The best run for each score (lower is better for every one).
   for (const auto& m : kMetrics) {
@@ -363,7 +397,7 @@ std::string csv(const std::vector<Axis>& axes, const std::vector<Row>& rows) {
   for (const auto& a : axes) os << a.name << ",";
   os << "completed";
   for (const auto& m : kMetrics) os << "," << m.name;
-  os << ",missed,error\n";
+  os << ",missed,max_speed,path_m,sim_s,final_30,error\n";
   for (const auto& r : rows) {
     for (std::size_t k = 0; k < axes.size(); ++k) os << r.index[k] << ",";
     for (std::size_t k = 0; k < axes.size(); ++k)
@@ -378,6 +412,12 @@ std::string csv(const std::vector<Axis>& axes, const std::vector<Row>& rows) {
         os << v;
     }
     os << "," << (r.ok ? std::to_string(r.missed) : "NaN") << ",";
+    if (r.ok)
+      os << r.max_speed << "," << r.path_m << "," << r.sim_s << ","
+         << (r.final_30 >= 0 ? std::to_string(r.final_30) : "NaN");
+    else
+      os << "NaN,NaN,NaN,NaN";
+    os << ",";
     std::string e = r.error;
     for (char& c : e)
       if (c == ',' || c == '"') c = ';';
@@ -389,8 +429,14 @@ std::string csv(const std::vector<Axis>& axes, const std::vector<Row>& rows) {
 std::string gnuplot_script(const std::vector<Axis>& axes, const std::vector<Row>& rows,
                            const std::string& data_file, const std::string& png,
                            const std::string& title) {
-  (void)rows;
   const std::size_t n = axes.size();
+  // A score no run has (e.g. steady cross-track on legs shorter than 60 s) is not drawn: gnuplot
+  // refuses a plot with no valid point.
+  const auto drawn = [&](const Metric& m) {
+    for (const auto& r : rows)
+      if (!std::isnan(value_of(r, m))) return true;
+    return false;
+  };
   std::string t = title;
   for (char& ch : t)
     if (ch == '\'') ch = '"';
@@ -404,10 +450,10 @@ std::string gnuplot_script(const std::vector<Axis>& axes, const std::vector<Row>
     return list + ")";
   };
   std::ostringstream g;
-  g << "set terminal pngcairo size 1500,900 font 'sans,10' noenhanced\n"
+  g << "set terminal pngcairo size 1500,1200 font 'sans,10' noenhanced\n"
     << "set output '" << png << "'\n"
     << "set datafile separator ','\nset datafile missing 'NaN'\nset grid\nset key off\n"
-    << "set multiplot layout 2,3 title '" << t << "'\n";
+    << "set multiplot layout 3,3 title '" << t << "'\n";
   if (n == 1) {
     const Axis& a = axes[0];
     g << "set xlabel '" << a.name << "'\n";
@@ -418,6 +464,7 @@ std::string gnuplot_script(const std::vector<Axis>& axes, const std::vector<Row>
     const std::string x = a.numeric ? "2" : "1";
     const std::string style = a.numeric ? "linespoints pt 7 lw 2" : "points pt 7 ps 2";
     for (std::size_t j = 0; j < std::size(kMetrics); ++j) {
+      if (!drawn(kMetrics[j])) continue;
       g << "set title '" << kMetrics[j].title << "'\n"
         << "plot '" << data_file << "' skip 1 using " << x << ":" << metric_col(j) << " with "
         << style << "\n";
@@ -429,6 +476,7 @@ std::string gnuplot_script(const std::vector<Axis>& axes, const std::vector<Row>
       << "]\nset yrange [-0.5:" << axes[1].values.size() - 0.5 << "]\n"
       << "set palette defined (0 '#1a9850', 0.5 '#fee08b', 1 '#d73027')\n";
     for (std::size_t j = 0; j < std::size(kMetrics); ++j) {
+      if (!drawn(kMetrics[j])) continue;
       const std::size_t c = metric_col(j);
       g << "set title '" << kMetrics[j].title << " (lower is better)'\n"
         << "plot '" << data_file << "' skip 1 using 1:2:(0.5):(0.5):" << c

@@ -3,8 +3,9 @@
 // source and knows which one is in control; tiller-esc holds the arm latch and grants an arm
 // request only while the mixer's latest command says `arm_allowed` (thruster_command_t).
 //
-// The source in control belongs to a controller: the PILOT (modes MANUAL_OPEN_LOOP and
-// MANUAL_CLOSED_LOOP: the stick, through TILLER_MANUAL_DEMAND) or the AUTONOMY (WAYPOINTING:
+// The source in control belongs to a controller: the PILOT (modes MANUAL_OPEN_LOOP,
+// MANUAL_CLOSED_LOOP and the ROV modes STABILISE .. POSITION_HOLD: the stick, through
+// TILLER_MANUAL_DEMAND) or the AUTONOMY (WAYPOINTING:
 // path follower, velocity PID, station keeping), or NONE.
 //
 // States (thruster_command_t GATE_*) and transitions, evaluated by step() at every output:

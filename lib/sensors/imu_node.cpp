@@ -10,11 +10,6 @@
 namespace tiller::sensors {
 
 namespace {
-std::string hex(unsigned v) {
-  char b[8];
-  std::snprintf(b, sizeof b, "0x%02x", v);
-  return b;
-}
 
 // "+x", "-y", "z" -> axis and sign.
 void parse_axis(const config::Value& v, int& axis, int& sign) {
@@ -82,7 +77,7 @@ ImuNode::ImuNode(const ImuParams& p, i2c::Transport& bus)
     : Node("imu", from_hz(p.rate_hz)),
       p_(p),
       bus_(bus),
-      where_("bno055 on " + bus.name() + " at " + hex(p.address)) {
+      health_("bno055 on " + bus.name() + " at " + hex(p.address), p.retry_period, p.fault_after) {
   advertise<imu_t>(p.imu_channel);
   if (p.publish_heading) advertise<heading_t>(p.heading_channel);
   retries_ = &counter("bus.retries");
@@ -104,7 +99,7 @@ ImuNode::ImuNode(const ImuParams& p, i2c::Transport& bus)
   heading_.reference = p.true_north ? heading_t::REFERENCE_TRUE : heading_t::REFERENCE_MAGNETIC;
   heading_.source = heading_t::SOURCE_AHRS;
   heading_.device = "bno055@" + bus.name() + ":" + hex(p.address);
-  set_health(heartbeat_t::STATE_FAULT, where_ + ": not set up yet");
+  set_health(heartbeat_t::STATE_FAULT, health_.where() + ": not set up yet");
 }
 
 int ImuNode::write_reg(std::uint8_t reg, std::uint8_t value) {
@@ -113,18 +108,13 @@ int ImuNode::write_reg(std::uint8_t reg, std::uint8_t value) {
 }
 
 int ImuNode::with_retry(auto&& op) {
-  const int err = op();
-  if (err == 0) return 0;
-  ++*retries_;
-  return op();
+  return retry_once(*retries_, op);
 }
 
-void ImuNode::lost(TimeUs now, int err, const std::string& why) {
+void ImuNode::lost(TimeUs now, int err, std::string_view why) {
   state_ = State::down;
-  next_step_ = now + p_.retry_period;
-  status_ = where_ + ": " + why;
-  if (err != 0) status_ += ": " + i2c::describe_errno(err);
-  status_ += "; retrying every " + std::to_string(p_.retry_period / 1000) + " ms";
+  status_ = health_.down(now, err, why);
+  next_step_ = health_.next_try();
   health_key_ = 0;
   set_health(heartbeat_t::STATE_FAULT, status_);
 }
@@ -172,7 +162,7 @@ void ImuNode::set_up(TimeUs now) {
     return;
   }
   state_ = State::running;  // starting, and the mode switch time has passed
-  consecutive_ = 0;
+  health_.succeeded();
 }
 
 void ImuNode::on_tick(TimeUs now) {
@@ -190,23 +180,22 @@ void ImuNode::sample(TimeUs now) {
   });
   if (err != 0) {
     ++*bus_errors_;
-    last_failure_ = now;
-    if (++consecutive_ >= p_.fault_after) {
-      lost(now, err, std::to_string(consecutive_) + " reads failed in a row");
+    if (health_.failed(now)) {
+      lost(now, err, std::to_string(health_.consecutive()) + " reads failed in a row");
     } else {
       update_health(now, nullptr);
     }
     return;
   }
-  consecutive_ = 0;
+  health_.succeeded();
   const bno055::Raw raw = bno055::decode(burst_);
   if (raw.opr_mode != p_.mode || raw.unit_sel != bno055::kUnitSel) {
     ++*resets_;
-    last_failure_ = now;
+    health_.glitch(now);
     state_ = State::down;  // the chip reset itself (brown-out?): set it up again now
     next_step_ = now;
-    status_ = where_ + ": the chip reset itself (OPR_MODE " + hex(raw.opr_mode) + ", UNIT_SEL " +
-              hex(raw.unit_sel) + "); setting it up again";
+    status_ = health_.where() + ": the chip reset itself (OPR_MODE " + hex(raw.opr_mode) +
+              ", UNIT_SEL " + hex(raw.unit_sel) + "); setting it up again";
     health_key_ = 0;
     set_health(heartbeat_t::STATE_DEGRADED, status_);
     return;
@@ -257,27 +246,29 @@ void ImuNode::say(std::int8_t state, int key, auto&& make) {
 }
 
 void ImuNode::update_health(TimeUs now, const bno055::Raw* raw) {
-  if (last_failure_ != INT64_MIN && now - last_failure_ < kUsPerSecond) {
-    say(heartbeat_t::STATE_DEGRADED, 1, [&] { return where_ + ": bus errors in the last second"; });
+  if (health_.failed_recently(now)) {
+    say(heartbeat_t::STATE_DEGRADED, 1,
+        [&] { return health_.where() + ": bus errors in the last second"; });
     return;
   }
   if (raw == nullptr) return;
   if (raw->sys_status != bno055::kSysStatusFusionRunning) {
-    say(heartbeat_t::STATE_DEGRADED, 0x200 | raw->sys_status,
-        [&] { return where_ + ": fusion not running (SYS_STATUS " + hex(raw->sys_status) + ")"; });
+    say(heartbeat_t::STATE_DEGRADED, 0x200 | raw->sys_status, [&] {
+      return health_.where() + ": fusion not running (SYS_STATUS " + hex(raw->sys_status) + ")";
+    });
     return;
   }
   const auto c = bno055::calibration(raw->calib_stat);
   if (c.system < p_.min_system_calibration) {
     say(heartbeat_t::STATE_DEGRADED, 0x300 | raw->calib_stat, [&] {
-      return where_ + ": calibrating, orientation not valid yet (system " +
+      return health_.where() + ": calibrating, orientation not valid yet (system " +
              std::to_string(c.system) + " < " + std::to_string(p_.min_system_calibration) +
              "; gyro " + std::to_string(c.gyro) + ", accel " + std::to_string(c.accel) + ", mag " +
              std::to_string(c.mag) + ")";
     });
     return;
   }
-  say(heartbeat_t::STATE_OK, 0x400, [&] { return where_; });
+  say(heartbeat_t::STATE_OK, 0x400, [&] { return health_.where(); });
 }
 
 }  // namespace tiller::sensors

@@ -9,10 +9,10 @@
 // set up again at once. orientation_valid needs the fusion running (SYS_STATUS 5), a unit
 // quaternion and a system calibration level >= min_system_calibration; heading_t is sent only
 // then. SYS_STATUS 1 (system error) is a FAULT naming SYS_ERR.
-// Device health as tiller-pressure's: one retry at once ("bus.retries"), then "bus.errors";
-// `fault_after` failed ticks in a row, no answer or a wrong chip id: FAULT with the bus and the
-// address in the status, set up again every retry period; failures in the last second or an
-// uncalibrated fusion: DEGRADED. Time comes only from the executor.
+// Device health (sensors/device_health.hpp): one retry at once ("bus.retries"), then
+// "bus.errors"; `fault_after` failed ticks in a row, no answer or a wrong chip id: FAULT with the
+// bus and the address in the status, set up again every retry period; failures in the last second
+// or an uncalibrated fusion: DEGRADED. Time comes only from the executor.
 #pragma once
 
 #include <cstdint>
@@ -25,6 +25,7 @@
 #include "i2c/transport.hpp"
 #include "runtime/node.hpp"
 #include "sensors/bno055.hpp"
+#include "sensors/device_health.hpp"
 
 namespace tiller::config {
 class Value;
@@ -68,7 +69,7 @@ class ImuNode : public Node {
   enum class State { down, configuring, starting, running };
   int write_reg(std::uint8_t reg, std::uint8_t value);
   int with_retry(auto&& op);
-  void lost(TimeUs now, int err, const std::string& why);
+  void lost(TimeUs now, int err, std::string_view why);
   void set_up(TimeUs now);
   void sample(TimeUs now);
   void update_health(TimeUs now, const bno055::Raw* raw);
@@ -76,11 +77,9 @@ class ImuNode : public Node {
 
   ImuParams p_;
   i2c::Transport& bus_;
-  std::string where_;  // "bno055 on /dev/i2c-1 at 0x28"
+  DeviceHealth health_;  // "bno055 on /dev/i2c-1 at 0x28"
   State state_ = State::down;
-  TimeUs next_step_ = INT64_MIN;
-  TimeUs last_failure_ = INT64_MIN;
-  int consecutive_ = 0;
+  TimeUs next_step_ = INT64_MIN;  // the next set-up step
   bno055::Burst burst_{};
   imu_t imu_{};
   heading_t heading_{};

@@ -9,14 +9,6 @@
 
 namespace tiller::sensors {
 
-namespace {
-std::string hex(unsigned v, int digits = 2) {
-  char b[12];
-  std::snprintf(b, sizeof b, "0x%0*x", digits, v);
-  return b;
-}
-}  // namespace
-
 PowerParams load_power_params(const config::Value& root) {
   PowerParams p;
   p.bus = root.string_or("bus", p.bus);
@@ -80,8 +72,8 @@ PowerNode::PowerNode(const PowerParams& p, i2c::Transport& bus)
     : Node("power", from_hz(p.rate_hz)),
       p_(p),
       bus_(bus),
-      where_("ina226 on " + bus.name() + " at " + hex(p.address)),
-      degraded_(where_ + ": bus errors in the last second"),
+      health_("ina226 on " + bus.name() + " at " + hex(p.address), p.retry_period, p.fault_after),
+      degraded_(health_.where() + ": bus errors in the last second"),
       integ_(p.max_gap) {
   advertise<power_t>(p.channel);
   retries_ = &counter("bus.retries");
@@ -92,7 +84,7 @@ PowerNode::PowerNode(const PowerParams& p, i2c::Transport& bus)
   samples_ = &counter("samples");
   rejected_ = &counter("rejected.sample.range");
   msg_.monitor = "ina226@" + bus.name() + ":" + hex(p.address);
-  set_health(heartbeat_t::STATE_FAULT, where_ + ": not set up yet");
+  set_health(heartbeat_t::STATE_FAULT, health_.where() + ": not set up yet");
 }
 
 int PowerNode::read16(std::uint8_t reg, std::uint16_t& v) {
@@ -108,19 +100,12 @@ int PowerNode::write16(std::uint8_t reg, std::uint16_t v) {
 }
 
 int PowerNode::with_retry(auto&& op) {
-  const int err = op();
-  if (err == 0) return 0;
-  ++*retries_;
-  return op();
+  return retry_once(*retries_, op);
 }
 
-void PowerNode::lost(TimeUs now, int err, const std::string& why) {
+void PowerNode::lost(TimeUs now, int err, std::string_view why) {
   ready_ = false;
-  next_step_ = now + p_.retry_period;
-  status_ = where_ + ": " + why;
-  if (err != 0) status_ += ": " + i2c::describe_errno(err);
-  status_ += "; retrying every " + std::to_string(p_.retry_period / 1000) + " ms";
-  set_health(heartbeat_t::STATE_FAULT, status_);
+  set_health(heartbeat_t::STATE_FAULT, health_.down(now, err, why));
 }
 
 void PowerNode::set_up(TimeUs now) {
@@ -157,17 +142,17 @@ void PowerNode::set_up(TimeUs now) {
     return;
   }
   ready_ = true;
-  consecutive_ = 0;
+  health_.succeeded();
   // The first averaged result is ready one conversion period after the configuration.
   next_step_ =
       now + ina226::sample_period_us(p_.averaging, p_.bus_conversion_us, p_.shunt_conversion_us);
-  set_health(heartbeat_t::STATE_OK, where_);
+  set_health(heartbeat_t::STATE_OK, health_.where());
 }
 
 void PowerNode::on_tick(TimeUs now) {
   bus_.set_time(now);
   if (!ready_) {
-    if (now >= next_step_) set_up(now);
+    if (health_.may_try(now)) set_up(now);
     return;
   }
   if (now < next_step_) return;
@@ -182,23 +167,21 @@ void PowerNode::sample(TimeUs now) {
   if (err == 0) err = with_retry([&] { return read16(ina226::kRegCalibration, cal); });
   if (err != 0) {
     ++*bus_errors_;
-    last_failure_ = now;
-    if (++consecutive_ >= p_.fault_after) {
-      lost(now, err, std::to_string(consecutive_) + " reads failed in a row");
+    if (health_.failed(now)) {
+      lost(now, err, std::to_string(health_.consecutive()) + " reads failed in a row");
     } else {
       set_health(heartbeat_t::STATE_DEGRADED, degraded_);
     }
     return;
   }
-  consecutive_ = 0;
+  health_.succeeded();
   if (cal != p_.calibration) {
     ++*resets_;
-    last_failure_ = now;
-    ready_ = false;
-    next_step_ = now;  // set it up again at the next tick
-    status_ = where_ + ": calibration register reads " + hex(cal, 4) + " (the chip reset?); " +
-              "setting it up again";
-    set_health(heartbeat_t::STATE_DEGRADED, status_);
+    health_.glitch(now);
+    ready_ = false;  // set it up again at the next tick (may_try: no retry period after a reset)
+    set_health(heartbeat_t::STATE_DEGRADED, health_.where() + ": calibration register reads " +
+                                                hex(cal, 4) +
+                                                " (the chip reset?); setting it up again");
     return;
   }
   const double sign = p_.invert_current ? -1.0 : 1.0;
@@ -219,10 +202,10 @@ void PowerNode::sample(TimeUs now) {
     ++*samples_;
     publish(p_.channel, msg_);
   }
-  if (last_failure_ != INT64_MIN && now - last_failure_ < kUsPerSecond) {
+  if (health_.failed_recently(now)) {
     set_health(heartbeat_t::STATE_DEGRADED, degraded_);
   } else {
-    set_health(heartbeat_t::STATE_OK, where_);
+    set_health(heartbeat_t::STATE_OK, health_.where());
   }
 }
 

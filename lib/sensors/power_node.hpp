@@ -10,9 +10,9 @@
 // back with CAL = 0, which would read 0 A) is counted in "device.resets" and set up again.
 // The power register is unsigned; it gets the current's sign. Charge and energy are integrated
 // over the tick times (ina226::Integrator; a gap over max_gap_s is counted in "charge.gaps").
-// Device health as tiller-pressure's: one retry at once ("bus.retries"), then "bus.errors";
-// `fault_after` failed ticks in a row, no answer or wrong ids: FAULT naming the bus and the
-// address, set up again every retry period; failures in the last second: DEGRADED.
+// Device health (sensors/device_health.hpp): one retry at once ("bus.retries"), then
+// "bus.errors"; `fault_after` failed ticks in a row, no answer or wrong ids: FAULT naming the bus
+// and the address, set up again every retry period; failures in the last second: DEGRADED.
 #pragma once
 
 #include <cstdint>
@@ -23,6 +23,7 @@
 #include "core/time.hpp"
 #include "i2c/transport.hpp"
 #include "runtime/node.hpp"
+#include "sensors/device_health.hpp"
 #include "sensors/ina226.hpp"
 
 namespace tiller::config {
@@ -66,22 +67,19 @@ class PowerNode : public Node {
   int read16(std::uint8_t reg, std::uint16_t& v);
   int write16(std::uint8_t reg, std::uint16_t v);
   int with_retry(auto&& op);
-  void lost(TimeUs now, int err, const std::string& why);
+  void lost(TimeUs now, int err, std::string_view why);
   void set_up(TimeUs now);
   void sample(TimeUs now);
 
   PowerParams p_;
   i2c::Transport& bus_;
-  std::string where_;     // "ina226 on /dev/i2c-1 at 0x40"
+  DeviceHealth health_;   // "ina226 on /dev/i2c-1 at 0x40"
   std::string degraded_;  // the status while bus errors are recent (built once)
   bool ready_ = false;
-  TimeUs next_step_ = INT64_MIN;
-  TimeUs last_failure_ = INT64_MIN;
-  int consecutive_ = 0;
+  TimeUs next_step_ = INT64_MIN;  // the next sample
   ina226::Integrator integ_;
   power_t msg_{};
   std::int64_t *retries_, *bus_errors_, *init_failures_, *resets_, *gaps_, *samples_, *rejected_;
-  std::string status_;
 };
 
 }  // namespace tiller::sensors

@@ -12,11 +12,6 @@ namespace tiller::sensors {
 namespace {
 constexpr double kG = 9.80665;  // m/s^2, standard gravity (the contract's depth formula)
 
-std::string hex(unsigned v) {
-  char b[8];
-  std::snprintf(b, sizeof b, "0x%02x", v);
-  return b;
-}
 const char* model_name(ms5837::Model m) {
   return m == ms5837::Model::ba30 ? "ms5837-30ba" : "ms5837-02ba";
 }
@@ -61,7 +56,8 @@ PressureNode::PressureNode(const PressureParams& p, i2c::Transport& bus)
       p_(p),
       bus_(bus),
       dev_(bus, p.address, p.model, p.osr),
-      where_(std::string(model_name(p.model)) + " on " + bus.name() + " at " + hex(p.address)) {
+      health_(std::string(model_name(p.model)) + " on " + bus.name() + " at " + hex(p.address),
+              p.retry_period, p.fault_after) {
   advertise<pressure_t>(p.channel);
   retries_ = &counter("bus.retries");
   bus_errors_ = &counter("bus.errors");
@@ -73,57 +69,52 @@ PressureNode::PressureNode(const PressureParams& p, i2c::Transport& bus)
   msg_.water_density = p.water_density;
   msg_.surface_pressure = p.surface_pressure;
   msg_.sensor = std::string(model_name(p.model)) + "@" + bus.name() + ":" + hex(p.address);
-  set_health(heartbeat_t::STATE_FAULT, where_ + ": not set up yet");
+  set_health(heartbeat_t::STATE_FAULT, health_.where() + ": not set up yet");
 }
 
-int PressureNode::with_retry(int err, auto&& again) {
-  if (err == 0 || err == EAGAIN || err == EBADMSG) return err;
-  ++*retries_;
-  return again();
+// Not worth a second try: the conversion is not finished yet, or the PROM's CRC is wrong.
+int PressureNode::with_retry(auto&& op) {
+  return retry_once(*retries_, op, [](int err) { return err == EAGAIN || err == EBADMSG; });
 }
 
 void PressureNode::lost(TimeUs now, int err, const char* step) {
   ready_ = false;
   have_d2_ = false;
-  next_init_ = now + p_.retry_period;
-  status_ = where_ + ": " + step + ": " + i2c::describe_errno(err) + "; retrying every " +
-            std::to_string(p_.retry_period / 1000) + " ms";
-  set_health(heartbeat_t::STATE_FAULT, status_);
+  set_health(heartbeat_t::STATE_FAULT, health_.down(now, err, step));
 }
 
 void PressureNode::sample_failed(TimeUs now, int err, const char* step) {
-  last_failure_ = now;
   if (err == EAGAIN) {
     ++*not_ready_;
   } else {
     ++*bus_errors_;
   }
-  if (++consecutive_ >= p_.fault_after) {
+  if (health_.failed(now)) {
     lost(now, err, step);
     return;
   }
   // Start the same conversion again next tick.
   const bool pressure = converting_pressure_;
-  with_retry(dev_.start_conversion(pressure), [&] { return dev_.start_conversion(pressure); });
+  with_retry([&] { return dev_.start_conversion(pressure); });
 }
 
 void PressureNode::update_health(TimeUs now) {
   if (!ready_) return;
-  if (last_failure_ != INT64_MIN && now - last_failure_ < kUsPerSecond) {
-    set_health(heartbeat_t::STATE_DEGRADED, where_ + ": bus errors in the last second");
+  if (health_.failed_recently(now)) {
+    set_health(heartbeat_t::STATE_DEGRADED, health_.where() + ": bus errors in the last second");
   } else {
-    set_health(heartbeat_t::STATE_OK, where_);
+    set_health(heartbeat_t::STATE_OK, health_.where());
   }
 }
 
 void PressureNode::on_tick(TimeUs now) {
   bus_.set_time(now);
   if (!ready_) {
-    if (now < next_init_) return;
-    int err = with_retry(dev_.start(), [&] { return dev_.start(); });
+    if (!health_.may_try(now)) return;
+    int err = with_retry([&] { return dev_.start(); });
     if (err == 0) {
       converting_pressure_ = false;
-      err = with_retry(dev_.start_conversion(false), [&] { return dev_.start_conversion(false); });
+      err = with_retry([&] { return dev_.start_conversion(false); });
     }
     if (err != 0) {
       ++*init_failures_;
@@ -136,22 +127,21 @@ void PressureNode::on_tick(TimeUs now) {
       return;
     }
     ready_ = true;
-    consecutive_ = 0;
+    health_.succeeded();
     update_health(now);
     return;
   }
   std::uint32_t v = 0;
-  const int err = with_retry(dev_.read_adc(v), [&] { return dev_.read_adc(v); });
+  const int err = with_retry([&] { return dev_.read_adc(v); });
   if (err != 0) {
     sample_failed(now, err, converting_pressure_ ? "D1 read" : "D2 read");
     update_health(now);
     return;
   }
-  consecutive_ = 0;
+  health_.succeeded();
   const bool was_pressure = converting_pressure_;
   converting_pressure_ = !converting_pressure_;
-  const int e2 = with_retry(dev_.start_conversion(converting_pressure_),
-                            [&] { return dev_.start_conversion(converting_pressure_); });
+  const int e2 = with_retry([&] { return dev_.start_conversion(converting_pressure_); });
   if (e2 != 0) {
     converting_pressure_ = was_pressure;  // read again after a fresh start of the same one
     sample_failed(now, e2, "conversion start");

@@ -5,11 +5,12 @@
 // tick reads the conversion started at the previous tick (D2 temperature, then D1 pressure) and
 // starts the next one, so a tick period must exceed the OSR's conversion time (checked at
 // load). Depth = (P - surface_pressure) / (water_density * 9.80665).
-// Device health: a failed transaction is retried once at once ("bus.retries"); a second failure
-// counts "bus.errors" and drops that conversion; `fault_after` failed ticks in a row, a missing
-// device or a bad PROM CRC ("prom.crc_errors") put the heartbeat in FAULT with a message naming
-// the bus and the address, and the device is set up again every retry period. Any failure in
-// the last second: DEGRADED. A sample whose message fails checks::check is dropped and counted
+// Device health (sensors/device_health.hpp): a failed transaction is retried once at once
+// ("bus.retries"); a second failure counts "bus.errors" and drops that conversion; `fault_after`
+// failed ticks in a row, a missing device or a bad PROM CRC ("prom.crc_errors") put the heartbeat
+// in FAULT with a message naming the bus and the address, and the device is set up again every
+// retry period. Any failure in the last second: DEGRADED. A sample whose message fails
+// checks::check is dropped and counted
 // ("rejected.sample.<reason>"), never published. Time comes only from the executor.
 #pragma once
 
@@ -21,6 +22,7 @@
 #include "core/time.hpp"
 #include "i2c/transport.hpp"
 #include "runtime/node.hpp"
+#include "sensors/device_health.hpp"
 #include "sensors/ms5837.hpp"
 
 namespace tiller::config {
@@ -55,7 +57,7 @@ class PressureNode : public Node {
   void on_tick(TimeUs now) override;
 
  private:
-  int with_retry(int err, auto&& again);
+  int with_retry(auto&& op);
   void lost(TimeUs now, int err, const char* step);
   void sample_failed(TimeUs now, int err, const char* step);
   void update_health(TimeUs now);
@@ -63,18 +65,14 @@ class PressureNode : public Node {
   PressureParams p_;
   i2c::Transport& bus_;
   ms5837::Device dev_;
-  std::string where_;  // "ms5837-30ba on /dev/i2c-1 at 0x76"
+  DeviceHealth health_;  // "ms5837-30ba on /dev/i2c-1 at 0x76"
   bool ready_ = false;
   bool converting_pressure_ = false;  // which conversion is running
   bool have_d2_ = false;
   std::uint32_t d2_ = 0;
-  TimeUs next_init_ = INT64_MIN;
-  TimeUs last_failure_ = INT64_MIN;
-  int consecutive_ = 0;
   pressure_t msg_{};
   std::int64_t *retries_, *bus_errors_, *crc_errors_, *not_ready_, *samples_, *init_failures_;
   std::int64_t* rejected_sample_;
-  std::string status_;
 };
 
 }  // namespace tiller::sensors

@@ -15,14 +15,15 @@ namespace tiller {
 
 namespace {
 
-std::string resolve_relative(const config::Value& where, const std::string& path) {
+std::string resolve_relative(const config::Value& where, const std::string& path,
+                             const char* what = "a vehicle file") {
   namespace fs = std::filesystem;
   if (path.empty() || fs::path(path).is_absolute()) return path;
   const fs::path beside = fs::path(where.file()).parent_path() / path;
   if (fs::exists(beside)) return beside.lexically_normal().string();
   if (fs::exists(path)) return path;
-  where.fail("a vehicle file (relative to the config's folder or the current directory): " + path +
-             " not found");
+  where.fail(std::string(what) +
+             " (relative to the config's folder or the current directory): " + path + " not found");
 }
 
 TimeUs period_from_rate(const config::Value& root, std::string_view key, TimeUs step_us) {
@@ -132,6 +133,14 @@ SimParams load_sim_params(const config::Value& root) {
     p.noise.angular_velocity_std_rad_s =
         n->angle_deg_or("angular_velocity_std_deg", 0.0, {0.0, 90.0});
   }
+  p.publish_odometry = root.choice_or("odometry", "truth", {"truth", "estimated"}) == "truth";
+  if (root.has("sensors")) {
+    const std::string f = root.string("sensors");
+    if (f != "none") {
+      const std::string path = resolve_relative(root.at("sensors"), f, "a sensors file");
+      p.sensors = sim::load_sensor_file(path, p.step_us);
+    }
+  }
   return p;
 }
 
@@ -169,6 +178,7 @@ SimNode::SimNode(const SimParams& params, const SimVehicle& v)
       model_(v.dynamics, geometry_of(v.vehicle)),
       current_(params.current, params.seed),
       noise_(params.noise, params.seed + 0x9E3779B97F4A7C15ull),
+      sensors_(params.sensors, params.seed),
       surface_(v.dynamics.kind == sim::ModelKind::kSurface3Dof),
       esc_fresh_(params.esc_timeout_us) {
   if (!p_.initial_eta.allFinite() || !p_.initial_nu.allFinite())
@@ -187,6 +197,18 @@ SimNode::SimNode(const SimParams& params, const SimVehicle& v)
   advertise<odometry_t>(channels::kOdometry);
   advertise<odometry_t>(channels::kGroundTruth);
   advertise<sim_state_t>(channels::kSimState);
+  advertise<gnss_fix_t>(channels::kGnss);
+  advertise<imu_t>(channels::kImu);
+  advertise<heading_t>(channels::kHeading);
+  advertise<pressure_t>(channels::kPressure);
+  advertise<power_t>(channels::kPower);
+  advertise<leak_t>(channels::kLeak);
+  if (sensors_.enabled()) {
+    sensors_.set_drop_counters(&counter("sensors.gnss.dropped"), &counter("sensors.imu.dropped"),
+                               &counter("sensors.heading.dropped"),
+                               &counter("sensors.pressure.dropped"),
+                               &counter("sensors.power.dropped"), &counter("sensors.leak.dropped"));
+  }
   rej_name_ = &counter("rejected.esc_output.unknown_thruster");
   rej_unit_ = &counter("rejected.esc_output.unit");
   rej_range_ = &counter("rejected.esc_output.out_of_range");
@@ -292,11 +314,14 @@ void SimNode::on_tick(TimeUs now) {
   sim::Environment env;
   env.wind = p_.wind_enabled;
   env.wind_ned = p_.wind.velocity_ned();
+  env.force_ned = disturbance_;
   for (std::int64_t k = 0; k < steps; ++k) {
     current_.step(dt);
     env.current_ned = current_.velocity_ned();
+    const sim::Vector6 nu_before = model_.nu();
     model_.step(dt, env);
     sim_time_ += p_.step_us;
+    if (sensors_.enabled()) sense(nu_before, dt);
   }
   if (!model_.eta().allFinite() || !model_.nu().allFinite()) {
     // Cannot happen with valid parameters; if it does, restart at rest rather than publish NaN.
@@ -307,9 +332,23 @@ void SimNode::on_tick(TimeUs now) {
   publish_outputs(now);
 }
 
+void SimNode::sense(const sim::Vector6& nu_before, double dt) {
+  sim::TrueState s;
+  s.eta = model_.eta();
+  s.nu = model_.nu();
+  // d/dt [u v w] over the step + omega x [u v w]: the acceleration relative to NED, in body.
+  s.accel_body = (s.nu.head<3>() - nu_before.head<3>()) / dt + s.nu.tail<3>().cross(s.nu.head<3>());
+  for (int i = 0; i < model_.n_thrusters(); ++i)
+    thrust_now_[static_cast<std::size_t>(i)] = model_.thrust(i);
+  s.thrust = thrust_now_.data();
+  s.n_thrusters = model_.n_thrusters();
+  sensors_.step(sim_time_, dt, s);
+}
+
 void SimNode::fill_odometry(odometry_t& o, const sim::Vector6& eta, const sim::Vector6& nu,
                             TimeUs now) {
   o.utime = now;
+  o.valid = odometry_t::VALID_ALL;  // the simulator's state (truth, or truth + noise) is whole
   for (int i = 0; i < 3; ++i) {
     o.position[i] = eta[i];
     o.orientation[i] = eta[3 + i];
@@ -332,7 +371,8 @@ void SimNode::publish_outputs(TimeUs now) {
     fill_odometry(truth_, model_.eta(), model_.nu(), now);
     publish(channels::kGroundTruth, truth_);
   }
-  if (due(next_odom_, p_.odometry_period_us)) {
+  sensors_.release(now, [this](const char* channel, const auto& m) { publish(channel, m); });
+  if (due(next_odom_, p_.odometry_period_us) && p_.publish_odometry) {
     sim::Vector6 eta = model_.eta();
     sim::Vector6 nu = model_.nu();
     noise_.apply(eta, nu);

@@ -4,8 +4,13 @@
 //   TILLER_ODOMETRY      pose NED + body FRD velocity over ground (with optional seeded noise),
 //   TILLER_GROUND_TRUTH  the same without noise,
 //   TILLER_SIM_STATE     eta, nu, nu_r, current, thrust per thruster,
-// each at its configured rate (a multiple of the step). Runs live (tiller-sim) or in lockstep
-// with the other nodes (LockstepExecutor) on simulated time; no clock, no file after loading.
+// each at its configured rate (a multiple of the step). With a sensors file (config/sim/
+// sensors_*.yaml, `sensors:` or --sensors) it also publishes every simulated sensor from the true
+// state on its driver's channel (TILLER_GNSS, _IMU, _HEADING, _PRESSURE, _POWER, _LEAK; NMEA to
+// a sink for gpsd: lib/sim/sensor_suite.hpp); with `odometry: estimated` it publishes no
+// TILLER_ODOMETRY (tiller-nav makes it from those sensors; ground truth is still published). Runs
+// live (tiller-sim) or in lockstep with the other nodes (LockstepExecutor) on simulated time; no
+// clock, no file after loading.
 //
 // ESC output -> thrust: UNIT_THROTTLE_INT16 value / throttle_full_scale, or UNIT_PULSE_US mapped
 // by the config's pulse min / neutral / max (1500 + u (max - 1500) for u > 0, 1500 + u (1500 -
@@ -32,6 +37,7 @@
 #include "runtime/node.hpp"
 #include "sim/dynamics.hpp"
 #include "sim/environment.hpp"
+#include "sim/sensor_suite.hpp"
 #include "sim/vessel_model.hpp"
 #include "vehicle/vehicle.hpp"
 
@@ -68,6 +74,10 @@ struct SimParams {
   std::string wind_enabled_key = "wind.enabled";
   sim::WindParams wind;
   sim::OdometryNoiseParams noise;
+  // truth (the default): TILLER_ODOMETRY from the model (plus `noise`); estimated: none (the
+  // estimator, tiller-nav, publishes it from the simulated sensors).
+  bool publish_odometry = true;
+  sim::SensorParams sensors;  // enabled false: no sensor messages
 };
 
 // Reads config/sim/*.yaml strictly. `vehicle:` is resolved relative to the config file's folder
@@ -99,14 +109,22 @@ class SimNode : public Node {
   const sim::CurrentModel& current() const { return current_; }
   const Vehicle& vehicle() const { return vehicle_; }
   const SimParams& params() const { return p_; }
+  // An outside force on the vehicle (N, NED) from the next step on (tests' disturbances;
+  // underwater_6dof only). Zero by default.
+  void set_disturbance(const sim::Vector3& force_ned) { disturbance_ = force_ned; }
   // Thrust target (N, along each thruster's direction) from the last accepted ESC output.
   double commanded_thrust(int i) const { return commanded_[static_cast<std::size_t>(i)]; }
   bool esc_fresh() const { return esc_was_fresh_; }
   // Maps one ESC value to the motor's normalised command in [-1, 1]; false if out of range.
   bool motor_command(std::int8_t unit, std::int32_t value, double& out) const;
+  // The simulated sensors (their battery, their GNSS model); NMEA goes to `sink` (not owned).
+  const sim::SensorSuite& sensors() const { return sensors_; }
+  void set_nmea_sink(sim::NmeaSink* sink) { sensors_.set_nmea_sink(sink); }
 
  private:
   void publish_outputs(TimeUs now);
+  // The sensors' sample of the state just stepped (nu_before: the velocity before the step).
+  void sense(const sim::Vector6& nu_before, double dt);
   void fill_odometry(odometry_t& o, const sim::Vector6& eta, const sim::Vector6& nu, TimeUs now);
 
   SimParams p_;
@@ -114,7 +132,10 @@ class SimNode : public Node {
   sim::VesselModel model_;
   sim::CurrentModel current_;
   sim::OdometryNoise noise_;
+  sim::SensorSuite sensors_;
+  std::array<double, sim::kMaxThrusters> thrust_now_{};
   bool surface_;
+  sim::Vector3 disturbance_ = sim::Vector3::Zero();
   Freshness esc_fresh_;
   bool esc_was_fresh_ = false;
   std::int64_t stale_seen_ = 0;

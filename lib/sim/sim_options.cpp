@@ -1,5 +1,7 @@
 #include "sim/sim_options.hpp"
 
+#include <algorithm>
+#include <cmath>
 #include <cstdint>
 #include <cstdio>
 #include <stdexcept>
@@ -21,22 +23,73 @@ double number(const app::Args& a, const std::string& name, double lo, double hi,
   return app::number_option(a, name, lo, hi,
                             "a finite number in [" + fmt(lo) + ", " + fmt(hi) + "] " + unit);
 }
+// "40:20,90:5" -> [40, 60) s and [90, 95) s.
+std::vector<sim::GnssOutage> parse_outages(const std::string& text) {
+  std::vector<sim::GnssOutage> out;
+  std::size_t at = 0;
+  while (at <= text.size()) {
+    const std::size_t comma = std::min(text.find(',', at), text.size());
+    const std::string item = text.substr(at, comma - at);
+    const std::size_t colon = item.find(':');
+    double start = 0, dur = 0;
+    std::size_t n1 = 0, n2 = 0;
+    bool ok = colon != std::string::npos;
+    try {
+      if (ok) {
+        start = std::stod(item.substr(0, colon), &n1);
+        dur = std::stod(item.substr(colon + 1), &n2);
+      }
+    } catch (const std::exception&) {
+      ok = false;
+    }
+    ok = ok && n1 == colon && n2 == item.size() - colon - 1 && std::isfinite(start) &&
+         std::isfinite(dur) && start >= 0 && dur > 0 && start <= 1e7 && dur <= 1e7;
+    if (!ok)
+      throw std::runtime_error(
+          "--gnss-outage: expected START_S:DURATION_S (start >= 0, duration > 0, s; a comma "
+          "list for several, e.g. 40:20,90:5), got '" +
+          text + "'");
+    out.push_back({from_seconds(start), from_seconds(start + dur)});
+    at = comma + 1;
+  }
+  return out;
+}
+
 }  // namespace
 
 std::vector<app::Option> sim_options() {
-  return {{"vehicle", "FILE", "vehicle file (overrides the config's vehicle:)", ""},
-          {"seed", "N", "seed of the current and the odometry noise (integer >= 0)", ""},
-          {"mission", "FILE",
-           "start where this mission file's start: says (the flags below win over it)", ""},
-          {"north", "M", "initial north position (-1e6..1e6)", ""},
-          {"east", "M", "initial east position (-1e6..1e6)", ""},
-          {"heading-deg", "DEG", "initial heading (-360..360)", ""},
-          {"current-speed", "M_S",
-           "constant current speed, 0..5 (towards north unless --current-toward-deg)", ""},
-          {"current-toward-deg", "DEG",
-           "direction the constant current flows towards (0 = north, -360..360); needs "
-           "--current-speed",
-           ""}};
+  return {
+      {"vehicle", "FILE", "vehicle file (overrides the config's vehicle:)", ""},
+      {"seed", "N", "seed of the current and the odometry noise (integer >= 0)", ""},
+      {"mission", "FILE",
+       "start where this mission file's start: says (the flags below win over it)", ""},
+      {"north", "M", "initial north position (-1e6..1e6)", ""},
+      {"east", "M", "initial east position (-1e6..1e6)", ""},
+      {"heading-deg", "DEG", "initial heading (-360..360)", ""},
+      {"current-speed", "M_S",
+       "constant current speed, 0..5 (towards north unless --current-toward-deg)", ""},
+      {"current-toward-deg", "DEG",
+       "direction the constant current flows towards (0 = north, -360..360); needs "
+       "--current-speed",
+       ""},
+      {"sensors", "FILE",
+       "simulated sensors file (config/sim/sensors/usv.yaml, ...), or none (overrides the "
+       "config's sensors:)",
+       ""},
+      {"odometry", "MODE",
+       "truth: publish TILLER_ODOMETRY from the model; estimated: publish none (tiller-nav "
+       "estimates it from the simulated sensors)",
+       ""},
+      {"gnss-output", "WHERE",
+       "lcm: TILLER_GNSS from the simulator; nmea: NMEA to the pseudo-terminal (gpsd, "
+       "tiller-gnss); both",
+       ""},
+      {"gnss-outage", "START:DURATION",
+       "no GNSS fix from START s after the start for DURATION s (a comma list for several)", ""},
+      {"leak-at", "S", "every leak probe turns wet S s after the start (0..1e7)", ""},
+      {"battery-used-ah", "AH", "the battery starts with AH already drawn (0..capacity)", ""},
+      {"nmea-link", "PATH",
+       "make PATH a symlink to the NMEA pseudo-terminal (for gpsd; needs nmea output)", ""}};
 }
 
 SimOverrides sim_overrides(const app::Args& a) {
@@ -58,6 +111,24 @@ SimOverrides sim_overrides(const app::Args& a) {
     o.seed = static_cast<std::uint64_t>(
         app::integer_option(a, "seed", 0, INT64_MAX, "an integer in [0, 9223372036854775807]"));
   if (given("vehicle")) o.vehicle_file = app::resolve_path(a.get("vehicle"));
+  if (given("sensors"))
+    o.sensors_file = a.get("sensors") == "none" ? "none" : app::resolve_path(a.get("sensors"));
+  if (given("odometry")) {
+    const std::string m = a.get("odometry");
+    if (m != "truth" && m != "estimated")
+      throw std::runtime_error("--odometry: expected truth or estimated, got '" + m + "'");
+    o.publish_odometry = m == "truth";
+  }
+  if (given("gnss-output")) {
+    const std::string m = a.get("gnss-output");
+    if (m != "lcm" && m != "nmea" && m != "both")
+      throw std::runtime_error("--gnss-output: expected lcm, nmea or both, got '" + m + "'");
+    o.gnss_output = m;
+  }
+  if (given("gnss-outage")) o.gnss_outages = parse_outages(a.get("gnss-outage"));
+  if (given("leak-at")) o.leak_at_s = number(a, "leak-at", 0, 1e7, "s");
+  if (given("battery-used-ah")) o.battery_used_ah = number(a, "battery-used-ah", 0, 1e4, "Ah");
+  o.nmea_link = a.get("nmea-link");
   if (given("mission")) {
     o.mission_file = app::resolve_path(a.get("mission"));
     const auto m = mission::load_mission_file(o.mission_file);
@@ -91,7 +162,9 @@ SimOverrides sim_overrides(const std::vector<std::string>& args,
     if (!known)
       throw std::invalid_argument("sim: replay cannot apply the recorded option " + key +
                                   " (tiller-sim does not take it)");
-    if (resolve && (name == "vehicle" || name == "mission")) value = resolve(value);
+    if (resolve &&
+        (name == "vehicle" || name == "mission" || (name == "sensors" && value != "none")))
+      value = resolve(value);
     a.values[name] = value;
   }
   return sim_overrides(a);
@@ -109,6 +182,47 @@ void apply(const SimOverrides& o, SimParams& p) {
     p.current.speed_max_m_s = *o.current_speed;
     p.current.toward_rad = o.current_toward;
   }
+  if (o.publish_odometry) p.publish_odometry = *o.publish_odometry;
+  if (o.sensors_file) {
+    p.sensors = *o.sensors_file == "none" ? sim::SensorParams{}
+                                          : sim::load_sensor_file(*o.sensors_file, p.step_us);
+  }
+  auto need_sensors = [&](const char* flag) {
+    if (!p.sensors.enabled)
+      throw std::runtime_error(std::string("--") + flag +
+                               ": expected simulated sensors (--sensors FILE, or the config's "
+                               "sensors:), but there are none");
+  };
+  if (o.gnss_output) {
+    need_sensors("gnss-output");
+    p.sensors.gnss_lcm = *o.gnss_output != "nmea";
+    p.sensors.gnss_nmea = *o.gnss_output != "lcm";
+  }
+  if (!o.gnss_outages.empty()) {
+    need_sensors("gnss-outage");
+    p.sensors.gnss_outages.insert(p.sensors.gnss_outages.end(), o.gnss_outages.begin(),
+                                  o.gnss_outages.end());
+  }
+  if (o.leak_at_s) {
+    need_sensors("leak-at");
+    p.sensors.leak.wet_after_s = *o.leak_at_s;
+    if (!p.sensors.leak_timing.enabled)
+      throw std::runtime_error("--leak-at: expected the sensors file (" + p.sensors.file +
+                               ") to enable leak:, but it does not");
+  }
+  if (o.battery_used_ah) {
+    need_sensors("battery-used-ah");
+    if (*o.battery_used_ah > p.sensors.power.capacity_ah)
+      throw std::runtime_error("--battery-used-ah: expected at most the capacity, " +
+                               fmt(p.sensors.power.capacity_ah) + " Ah (" + p.sensors.file +
+                               "), got '" + fmt(*o.battery_used_ah) + "'");
+    p.sensors.power.initial_consumed_ah = *o.battery_used_ah;
+  }
+  if (!o.nmea_link.empty() && !p.sensors.gnss_nmea)
+    throw std::runtime_error(
+        "--nmea-link: expected NMEA output (--gnss-output nmea or both, or gnss.output in the "
+        "sensors file), got '" +
+        o.nmea_link + "' with " + (p.sensors.enabled ? "output lcm" : "no sensors"));
 }
 
 }  // namespace tiller

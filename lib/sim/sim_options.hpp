@@ -8,6 +8,14 @@
 //                                  without start: (a CSV one) leaves the config's pose
 //   --north M --east M --heading-deg DEG       the initial pose (NED m, deg)
 //   --current-speed M_S [--current-toward-deg DEG]   a constant current (replaces the config's)
+//   --sensors FILE|none            the simulated sensors (config/sim/sensors/*.yaml; none: off)
+//   --odometry truth|estimated     TILLER_ODOMETRY from the model, or none (tiller-nav's job)
+//   --gnss-output lcm|nmea|both    TILLER_GNSS from the simulator and/or NMEA for gpsd
+//   --gnss-outage START_S:DURATION_S   no GNSS fix for that long (s after the start; repeatable
+//                                  as a comma list: 40:20,90:5)
+//   --leak-at S                    every leak probe turns wet S seconds after the start
+//   --battery-used-ah AH           the battery starts with AH already drawn
+//   --nmea-link PATH               (tiller-sim) a symlink to the NMEA pseudo-terminal
 // Numbers are checked as strictly as the config: the whole string a finite number within the
 // range load_sim_params accepts, else "--NAME: expected E, got 'V'" (std::runtime_error; the
 // programs exit 2 with it).
@@ -26,11 +34,17 @@ namespace tiller {
 struct SimOverrides {
   std::optional<std::string> vehicle_file;
   std::optional<std::uint64_t> seed;
-  std::optional<double> north, east;    // m
-  std::optional<double> heading;        // rad, wrapped to (-pi, pi]
-  std::optional<double> current_speed;  // m/s: a constant current
-  double current_toward = 0;            // rad, wrapped: where the water flows towards
-  std::string mission_file;             // where the start came from ("" none)
+  std::optional<double> north, east;        // m
+  std::optional<double> heading;            // rad, wrapped to (-pi, pi]
+  std::optional<double> current_speed;      // m/s: a constant current
+  double current_toward = 0;                // rad, wrapped: where the water flows towards
+  std::string mission_file;                 // where the start came from ("" none)
+  std::optional<std::string> sensors_file;  // "none": no sensors
+  std::optional<bool> publish_odometry;
+  std::optional<std::string> gnss_output;  // lcm | nmea | both
+  std::vector<sim::GnssOutage> gnss_outages;
+  std::optional<double> leak_at_s, battery_used_ah;
+  std::string nmea_link;  // tiller-sim only (the pseudo-terminal is I/O, not the node's)
 };
 
 // The options above as tiller-sim declares them (their --help lines).

@@ -199,7 +199,8 @@ void VesselModel::derivative(const Vector6& eta, const Vector6& nu, const Vector
   const Vector3 b = m.bottomLeftCorner<3, 3>() * v1 + m.bottomRightCorner<3, 3>() * omega;
   Vector6 c_nu;
   c_nu << -a.cross(omega), -a.cross(v1) - b.cross(omega);
-  const Vector6 rhs = tau_thr - c_nu - damping(nu_r) - restoring(eta);
+  Vector6 rhs = tau_thr - c_nu - damping(nu_r) - restoring(eta);
+  rhs.head<3>() += rot.transpose() * env.force_ned;
   nu_dot = m_inv_ * rhs;
   nu_dot.head<3>() -= omega.cross(v_c);
   // Kinematics: p_dot = R v, Theta_dot = T(Theta) omega (singular at pitch = +-90 deg).

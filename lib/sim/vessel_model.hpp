@@ -37,6 +37,9 @@ struct Environment {
   Vector3 current_ned = Vector3::Zero();  // velocity of the water
   bool wind = false;                      // apply the wind model (surface vessels only)
   Vector3 wind_ned = Vector3::Zero();     // velocity of the air
+  // An outside force on the vehicle at the reference point (N, NED): a test's disturbance (a
+  // tether's pull, a bump). underwater_6dof only.
+  Vector3 force_ned = Vector3::Zero();
 };
 
 class VesselModel {

@@ -4,6 +4,7 @@
 #include <cmath>
 #include <cstdio>
 #include <string_view>
+#include <utility>
 
 #include <tiller/arm_request_t.hpp>
 #include <tiller/heartbeat_t.hpp>
@@ -42,6 +43,7 @@ TeleopNode::TeleopNode(TeleopParams params, Input input)
   if (input_ == Input::replay) subscribe(channels::kJoystick, &TeleopNode::on_joystick);
   subscribe(channels::kOdometry, &TeleopNode::on_odometry);
   subscribe(channels::kArmState, &TeleopNode::on_arm_state);
+  subscribe(channels::kMode, &TeleopNode::on_mode);
   if (input_ == Input::device) advertise<joystick_state_t>(channels::kJoystick);
   advertise<manual_demand_t>(channels::kManualDemand);
   advertise<manual_velocity_cmd_t>(channels::kManualVelocity);
@@ -90,6 +92,11 @@ void TeleopNode::on_odometry(const odometry_t& o, TimeUs now) {
     }
     return;
   }
+  // Heading hold needs the attitude only (an ROV without a position source still has it).
+  if (!(o.valid & odometry_t::VALID_ATTITUDE)) {
+    ++counter("odometry.invalid");  // made on first use
+    return;
+  }
   heading_ = o.orientation[2];  // in (-pi, pi] by the check
   odom_fresh_.mark(now, o.utime, clock_offset());
 }
@@ -104,6 +111,22 @@ void TeleopNode::on_arm_state(const arm_state_t& a, TimeUs now) {
   arm_known_ = true;
   arm_fresh_.mark(now, a.utime, clock_offset());
   if ((armed_ ? 1 : 0) != arm_shown_) update_health();
+}
+
+void TeleopNode::on_mode(const controller_mode_t& m, TimeUs now) {
+  // A mode command from another source (`tiller-rov-control --mode`, the cockpit) becomes the
+  // pilot's mode, so this teleop's repeats carry it instead of undoing it.
+  if (m.source == "teleop") return;  // our own
+  if (!on_time(m.utime, now, kEventMaxAgeUs, "mode")) return;
+  if (checks::check(m) != nullptr) {
+    reject(counter("rejected.mode.invalid"));  // made on first use
+    return;
+  }
+  if (m.mode == mode_ && m.is_translation == translation_) return;
+  mode_ = m.mode;
+  translation_ = m.is_translation;
+  last_mode_sent_ = now;  // the next repeat a period from now
+  update_health();
 }
 
 void TeleopNode::process(const joystick_state_t& s, TimeUs now) {
@@ -205,6 +228,15 @@ void TeleopNode::on_press(int b, TimeUs now) {
   if (b == k.mode_closed_loop) mode_ = controller_mode_t::MANUAL_CLOSED_LOOP, mode_changed = true;
   if (b == k.mode_autonomous) mode_ = controller_mode_t::WAYPOINTING, mode_changed = true;
   if (b == k.toggle_translation) translation_ = !translation_, mode_changed = true;
+  const std::pair<int, std::int8_t> rov_modes[] = {
+      {k.mode_stabilise, controller_mode_t::STABILISE},
+      {k.mode_depth_hold, controller_mode_t::DEPTH_HOLD},
+      {k.mode_heading_hold, controller_mode_t::HEADING_HOLD},
+      {k.mode_rate, controller_mode_t::RATE},
+      {k.mode_surface, controller_mode_t::SURFACE},
+      {k.mode_position_hold, controller_mode_t::POSITION_HOLD}};
+  for (const auto& [button, mode] : rov_modes)
+    if (b == button) mode_ = mode, mode_changed = true;
   if (mode_changed) publish_mode(now);
   if (b == k.mode_autonomous) {
     // Pressing the autonomous button is the operator's go for the autonomy (docs/safety.md): an
@@ -354,8 +386,11 @@ void TeleopNode::update_health() {
   const int arm = arm_known_ ? (armed_ ? 1 : 0) : -1;
   arm_shown_ = arm;
   const char* arm_text = arm < 0 ? "; arm state unknown" : arm ? "; ARMED" : "; disarmed";
-  static const char* const mode_names[3] = {"open-loop manual", "closed-loop manual", "autonomous"};
-  const char* mode = mode_ >= 0 && mode_ <= 2 ? mode_names[mode_] : "?";
+  static const char* const mode_names[9] = {
+      "open-loop manual", "closed-loop manual", "autonomous", "stabilise",
+      "depth hold",       "heading hold",       "rate",       "surface",
+      "position hold"};
+  const char* mode = mode_ >= 0 && mode_ <= 8 ? mode_names[mode_] : "?";
   char buf[160];
   if (!connected_) {
     std::snprintf(buf, sizeof buf, "joystick absent (%s)%s", device_.c_str(), arm_text);

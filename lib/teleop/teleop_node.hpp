@@ -11,7 +11,9 @@
 // TILLER_ARM_REQUEST only on a (debounced) button press: an arm request is an event, never
 // repeated, so a timeout that disarmed the ESCs is not undone behind the pilot's back.
 // TILLER_MODE on the first tick (initial_mode), on a button press, and again every
-// mode_repeat_hz (default 1 Hz) so a controller started later learns the pilot's mode.
+// mode_repeat_hz (default 1 Hz) so a controller started later learns the pilot's mode. A
+// TILLER_MODE from another source (a mode command: `tiller-rov-control --mode`, the cockpit)
+// becomes the teleop's mode, so its repeats carry the command rather than undo it.
 // Safety: a state with connected=false gives a neutral, invalid demand published at once and
 // a DEGRADED "joystick absent" heartbeat. After (re)connection the output stays neutral and
 // invalid until every mapped axis has been reported by the device and seen inside its deadzone
@@ -71,6 +73,7 @@ class TeleopNode : public Node {
   void on_joystick(const joystick_state_t& s, TimeUs now);
   void on_odometry(const odometry_t& o, TimeUs now);
   void on_arm_state(const arm_state_t& a, TimeUs now);
+  void on_mode(const controller_mode_t& m, TimeUs now);
   void process(const joystick_state_t& s, TimeUs now);
   void apply_state(const joystick_state_t& s, TimeUs now);
   void update_buttons(TimeUs now);

@@ -81,7 +81,12 @@ TeleopParams load_teleop(const config::Value& root) {
           Slot{"mode_closed_loop", &p.buttons.mode_closed_loop},
           Slot{"mode_autonomous", &p.buttons.mode_autonomous},
           Slot{"toggle_translation", &p.buttons.toggle_translation},
-          Slot{"gain_up", &p.buttons.gain_up}, Slot{"gain_down", &p.buttons.gain_down}}) {
+          Slot{"gain_up", &p.buttons.gain_up}, Slot{"gain_down", &p.buttons.gain_down},
+          Slot{"mode_stabilise", &p.buttons.mode_stabilise},
+          Slot{"mode_depth_hold", &p.buttons.mode_depth_hold},
+          Slot{"mode_heading_hold", &p.buttons.mode_heading_hold},
+          Slot{"mode_rate", &p.buttons.mode_rate}, Slot{"mode_surface", &p.buttons.mode_surface},
+          Slot{"mode_position_hold", &p.buttons.mode_position_hold}}) {
       *s.field = button_or(*b, s.key);
       if (*s.field >= 0)
         claims.push_back({*s.field, std::string("buttons.") + s.key, b->at(s.key)});

@@ -46,6 +46,9 @@ struct TeleopButtons {
   int mode_open_loop = -1, mode_closed_loop = -1, mode_autonomous = -1;
   int toggle_translation = -1;
   int gain_up = -1, gain_down = -1;
+  // The ROV pilot modes (tiller-rov-control; docs/flying.md): mode_open_loop is their manual.
+  int mode_stabilise = -1, mode_depth_hold = -1, mode_heading_hold = -1, mode_rate = -1,
+      mode_surface = -1, mode_position_hold = -1;
 };
 
 enum class YawMode { rate, heading_hold, torque };

@@ -7,6 +7,7 @@
 #include <sstream>
 
 #include "control/control_config.hpp"
+#include "control/rov_config.hpp"
 #include "core/config.hpp"
 #include "esc/esc_config.hpp"
 #include "guidance/follower_config.hpp"
@@ -114,7 +115,15 @@ class Checker {
     const fs::path control = fs::path(root_) / "control" / (name + ".yaml");
     if (fs::exists(control)) {
       attempt(control.string(), [&] {
-        control::load_velocity_pid_node_params(config::Value::load_file(control.string()));
+        const auto root = config::Value::load_file(control.string());
+        if (root.has("rov_control")) {  // an ROV's pilot modes (tiller-rov-control)
+          const auto p = control::load_rov_control_file(control.string());
+          if (!same_file(p.vehicle_file, vehicle_))
+            throw config::Error("rov_control.vehicle: names " + p.vehicle_file + ", not " +
+                                vehicle_);
+          return std::string("tiller-rov-control");
+        }
+        control::load_velocity_pid_node_params(root);
         control::load_station_keep_node_params(config::Value::load_file(control.string()));
         return std::string("tiller-velocity-pid, tiller-station-keep");
       });

@@ -41,7 +41,8 @@ TEST(Allocation, UnactuatedAxesAreFoundNotInverted) {
       {"seed004_usv_h", {false, false, true, true, true, false}},
       {"otter", {false, true, true, true, true, false}},
       {"wamv", {false, true, true, true, true, false}},
-      {"seed001_rov6_table", {false, false, false, true, false, false}}};
+      {"seed001_rov6_table", {false, false, false, true, false, false}},
+      {"bluerov2", {false, false, false, false, true, false}}};
   for (const auto& name : preset_names()) {
     const Allocator a(preset(name));
     EXPECT_EQ(a.unactuated(), expected.at(name)) << name;

@@ -65,6 +65,7 @@ RunResult run_mission(const RunConfig& c) {
   double last_x = 0, last_y = 0;
   TimeUs switched_until = -1;
   odometry_t o{};
+  o.valid = odometry_t::VALID_ALL;
   path_progress_t pr{};
   arbitration_t arb{};
   velocity_setpoint_t sp{};
@@ -112,7 +113,7 @@ RunResult run_mission(const RunConfig& c) {
   });
 
   const auto w0 = std::chrono::steady_clock::now();
-  const TimeUs limit = from_seconds(m.time_limit_s);
+  const TimeUs limit = from_seconds(c.time_limit_s >= 0 ? c.time_limit_s : m.time_limit_s);
   TimeUs t = 0;
   while (t < limit) {
     t += kUsPerSecond;

@@ -24,6 +24,7 @@ struct RunConfig {
   double current_speed = 0.3;    // m/s
   double current_from_deg = 30;  // deg, where the water comes from
   double hold_s = -1;            // station keeping after completion; < 0: the mission's
+  double time_limit_s = -1;      // s of simulated time; < 0: the mission's time_limit_s
   // Builds the plant nodes (added to the executor before the controllers). Default: SimplePlant.
   std::function<std::vector<std::unique_ptr<Node>>(const mission::Mission&, double current_speed,
                                                    double current_from_rad)>

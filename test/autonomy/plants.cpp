@@ -34,21 +34,21 @@ std::vector<std::unique_ptr<Node>> full_stack(const std::string& vehicle, const 
   return n;
 }
 
-PlantSpec full(const std::string& vehicle) {
+}  // namespace
+
+PlantSpec full_plant(const std::string& vehicle) {
   return {vehicle, "config/control/" + vehicle + ".yaml", "config/guidance/" + vehicle + ".yaml",
           "TILLER_GROUND_TRUTH", [vehicle](const mission::Mission& m, double speed, double from) {
             return full_stack(vehicle, m, speed, from);
           }};
 }
 
-}  // namespace
-
 const std::vector<PlantSpec>& plants() {
   static const std::vector<PlantSpec> p = [] {
     std::vector<PlantSpec> v;
-    v.push_back(full("otter"));
-    v.push_back(full("seed004_usv_x"));
-    v.push_back(full("seed004_usv_h"));
+    v.push_back(full_plant("otter"));
+    v.push_back(full_plant("seed004_usv_x"));
+    v.push_back(full_plant("seed004_usv_h"));
     return v;
   }();
   return p;

@@ -23,6 +23,9 @@ struct PlantSpec {
 
 // The full stack for the Otter, seed004_usv_x and seed004_usv_h (pose: ground truth).
 const std::vector<PlantSpec>& plants();
+// The full stack for any vehicle with config/{control,guidance,esc,mixer} files of its name
+// (wamv: not in plants(), whose tests predate its configs).
+PlantSpec full_plant(const std::string& vehicle);
 // The stand-in Otter model alone.
 const PlantSpec& standin_plant();
 

@@ -8,6 +8,9 @@
 #include <cmath>
 #include <cstdio>
 #include <cstring>
+#include <fstream>
+#include <iterator>
+#include <string>
 
 #include "control/arbiter.hpp"
 #include "control/control_config.hpp"
@@ -115,6 +118,79 @@ StationPidParams sparams() {
   p.y = {12, 2, 24, 5, 1000};
   p.yaw = {8, 1, 4, 3, 1000};
   return p;
+}
+
+// Issue 13 finding 1: the Munk-moment cancellation, by hand. Otter numbers: m11 85.5, m22 162.5,
+// m23 12.25 kg (m), y_v 162.5 N s/m; u 2 m/s, r 0.1 rad/s, dt 0.05 s. Step 1: w = 0, v_hat =
+// -m23 r / m22 = -0.0075385 m/s, moment (m22 - m11) u v_hat = -1.16092 N m; then w += dt (-y_v
+// v_hat - m11 u r) = -0.79375. Step 2: v_hat = (w - m23 r) / m22 = -0.0124231, moment -1.91315.
+// Steady: v_hat = -m11 u r / y_v, moment -(m22 - m11) m11 u^2 r / y_v = -16.2049 N m.
+TEST(VelocityPid, MunkMomentIsCancelledFromThePredictedSway) {
+  auto p = vparams();
+  p.munk = {85.5, 162.5, 12.25, 162.5, 1.0};
+  VelocityPid pid(p);
+  VelocityPidInput in;
+  in.yaw_mode = YawMode::kRate;
+  in.yaw_value = 0.1;
+  in.u_sp = in.u = 2.0;
+  in.r = 0.1;
+  in.dt = 0.05;
+  const double drag_ff = p.yaw.k_drag * 0.1;
+  auto t = pid.step(in);
+  EXPECT_NEAR(t.ff[2] - drag_ff, -1.160923, 1e-5);
+  // The published terms are the applied ones: output = ff + p + i.
+  EXPECT_DOUBLE_EQ(t.out[2], t.ff[2] + t.p[2] + t.i[2]);
+  t = pid.step(in);
+  EXPECT_NEAR(t.ff[2] - drag_ff, -1.913146, 1e-5);
+  for (int k = 0; k < 2000; ++k) t = pid.step(in);
+  EXPECT_NEAR(t.ff[2] - drag_ff, -77.0 * 85.5 * 4 * 0.1 / 162.5, 1e-6);
+  // Torque mode passes the pilot's torque through, no Munk term.
+  in.yaw_mode = YawMode::kTorque;
+  in.yaw_value = 7;
+  EXPECT_DOUBLE_EQ(pid.step(in).out[2], 7);
+  // reset() forgets the predicted sway (the PID restarts from zero when it takes over).
+  pid.reset();
+  in.yaw_mode = YawMode::kRate;
+  in.yaw_value = 0.1;
+  EXPECT_NEAR(pid.step(in).ff[2] - drag_ff, -1.160923, 1e-5);
+  // No model: no term.
+  VelocityPid plain(vparams());
+  EXPECT_DOUBLE_EQ(plain.step(in).ff[2], drag_ff);
+}
+
+TEST(ControlConfig, MunkModelComesFromTheVehicleFile) {
+  const std::string src = TILLER_SOURCE_DIR;
+  const auto otter = vehicle_munk_model(src + "/config/vehicles/otter.yaml");
+  EXPECT_DOUBLE_EQ(otter.m11, 85.5);
+  EXPECT_DOUBLE_EQ(otter.m22, 162.5);
+  EXPECT_DOUBLE_EQ(otter.m23, 12.25);
+  EXPECT_DOUBLE_EQ(otter.y_v, 162.5);
+  const auto v =
+      load_velocity_pid_node_params(config::Value::load_file(src + "/config/control/otter.yaml"));
+  EXPECT_DOUBLE_EQ(v.pid.munk.m22, 162.5);
+  EXPECT_DOUBLE_EQ(v.pid.munk.fraction, 1.0);
+  // The WAM-V has no added mass: m11 = m22, no Munk moment; its config leaves the term off.
+  const auto wamv = vehicle_munk_model(src + "/config/vehicles/wamv.yaml");
+  EXPECT_DOUBLE_EQ(wamv.m22 - wamv.m11, 0.0);
+  for (const char* f : {"wamv", "seed004_usv_x", "seed004_usv_h"}) {
+    const auto q = load_velocity_pid_node_params(
+        config::Value::load_file(src + "/config/control/" + std::string(f) + ".yaml"));
+    EXPECT_FALSE(q.pid.munk.enabled()) << f;
+  }
+  // A missing vehicle file names the key.
+  std::ifstream in(src + "/config/control/otter.yaml");
+  std::string text((std::istreambuf_iterator<char>(in)), std::istreambuf_iterator<char>());
+  const std::string from = "vehicle_file: config/vehicles/otter.yaml";
+  ASSERT_NE(text.find(from), std::string::npos);
+  text.replace(text.find(from), from.size(), "vehicle_file: nowhere.yaml");
+  const auto bad = config::Value::parse(text, src + "/config/control/x.yaml");
+  try {
+    load_velocity_pid_node_params(bad);
+    FAIL();
+  } catch (const config::Error& e) {
+    EXPECT_NE(std::string(e.what()).find("munk_compensation.vehicle_file"), std::string::npos)
+        << e.what();
+  }
 }
 
 TEST(StationPid, ErrorInTheBodyFrame) {
@@ -285,6 +361,8 @@ TEST(StationPid, WeathervaneHasNoHardSwitches) {
 TEST(StationPid, WeathervaneIntegralUnwindsSideways) {
   auto p = sparams();  // x: ki 2, i_limit 5; y: kp 12, ki 2
   p.weathervane = true;
+  p.weathervane_min_force = 0;  // the heading follows any force: sway integrates at full weight
+  p.weathervane_full_force = 0;
   StationPid pid(p);
   StationPidInput in;
   in.target_n = 1;  // 1 m ahead, facing north
@@ -318,6 +396,27 @@ TEST(StationPid, WeathervaneIntegralUnwindsSideways) {
   EXPECT_DOUBLE_EQ(t.i[0], before[0]);
   EXPECT_DOUBLE_EQ(t.i[1], before[1]);
   EXPECT_TRUE(t.frozen[1]);
+}
+
+// Below weathervane_min_force the target heading holds and the sideways force is not produced:
+// the sideways error does not integrate (in still water it wound the integral up until the boat
+// turned across its target heading: VRX station keeping 0.73 instead of 0.17 over 120 s).
+TEST(StationPid, WeathervaneSidewaysIntegratesOnlyAsFarAsTheHeadingFollowsTheForce) {
+  auto p = sparams();  // y: kp 12, ki 2
+  p.weathervane = true;
+  p.weathervane_min_force = 5;
+  p.weathervane_full_force = 10;
+  StationPid pid(p);
+  StationPidInput in;
+  in.dt = 0.1;
+  in.target_e = 0.25;  // 3 N sideways: below the band
+  for (int k = 0; k < 100; ++k) EXPECT_DOUBLE_EQ(pid.step(in).i[1], 0.0);
+  pid.reset();
+  in.target_e = 0.625;  // 7.5 N: half way through the band, half weight
+  EXPECT_NEAR(pid.step(in).i[1], 0.5 * 2 * 0.625 * 0.1, 1e-12);
+  pid.reset();
+  in.target_e = 1.0;  // 12 N: full weight
+  EXPECT_NEAR(pid.step(in).i[1], 2 * 1.0 * 0.1, 1e-12);
 }
 
 TEST(StationPid, TermsAddUpToTheOutputInWeathervaneMode) {

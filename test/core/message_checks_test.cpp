@@ -55,6 +55,10 @@ TEST(MessageChecks, Odometry) {
     t.push_back({"velocity NaN " + std::to_string(i), [i](auto& m) { m.velocity[i] = kInf; },
                  "velocity.nan"});
   t.push_back({"yaw = pi", [](auto& m) { m.orientation[2] = kPi; }, nullptr});
+  t.push_back({"valid all", [](auto& m) { m.valid = odometry_t::VALID_ALL; }, nullptr});
+  t.push_back({"valid 31", [](auto& m) { m.valid = 31; }, nullptr});
+  t.push_back({"valid 32", [](auto& m) { m.valid = 32; }, "valid.unknown"});
+  t.push_back({"valid -1", [](auto& m) { m.valid = -1; }, "valid.unknown"});
   t.push_back({"yaw = -pi", [](auto& m) { m.orientation[2] = -kPi; }, "yaw.range"});
   t.push_back({"yaw = 4", [](auto& m) { m.orientation[2] = 4.0; }, "yaw.range"});
   t.push_back({"yaw just above -pi", [](auto& m) { m.orientation[2] = -kPi + 1e-12; }, nullptr});
@@ -158,7 +162,7 @@ TEST(MessageChecks, Wrench) {
   g.valid = true;
   g.tau[0] = 100.0;
   std::vector<Case<wrench_t>> t = {
-      {"source 4", [](auto& m) { m.source = 4; }, "source.unknown"},
+      {"source 5", [](auto& m) { m.source = 5; }, "source.unknown"},
       {"source -1", [](auto& m) { m.source = -1; }, "source.unknown"},
   };
   for (int i = 0; i < 6; ++i) {
@@ -197,9 +201,9 @@ TEST(MessageChecks, Arbitration) {
   g.mode = controller_mode_t::WAYPOINTING;
   g.active_source = wrench_t::SOURCE_STATION_KEEP;
   run_table(g, std::vector<Case<arbitration_t>>{
-                   {"mode 3", [](auto& m) { m.mode = 3; }, "mode.unknown"},
+                   {"mode 9", [](auto& m) { m.mode = 9; }, "mode.unknown"},
                    {"mode -1", [](auto& m) { m.mode = -1; }, "mode.unknown"},
-                   {"source 4", [](auto& m) { m.active_source = 4; }, "source.unknown"},
+                   {"source 5", [](auto& m) { m.active_source = 5; }, "source.unknown"},
                    {"source none", [](auto& m) { m.active_source = 0; }, nullptr},
                });
 }
@@ -236,7 +240,7 @@ TEST(MessageChecks, ModeArmPath) {
   controller_mode_t c{};
   run_table(c, std::vector<Case<controller_mode_t>>{
                    {"mode 2", [](auto& m) { m.mode = 2; }, nullptr},
-                   {"mode 5", [](auto& m) { m.mode = 5; }, "mode.unknown"},
+                   {"mode 9", [](auto& m) { m.mode = 9; }, "mode.unknown"},
                });
   EXPECT_EQ(check(arm_request_t{}), nullptr);
   EXPECT_EQ(check(arm_state_t{}), nullptr);

@@ -21,6 +21,7 @@
 #include "cockpit/cockpit_config.hpp"
 #include "cockpit/cockpit_node.hpp"
 #include "control/control_config.hpp"
+#include "control/rov_node.hpp"
 #include "control/station_keep_node.hpp"
 #include "control/velocity_pid_node.hpp"
 #include "core/config.hpp"
@@ -33,6 +34,8 @@
 #include "mission/mission.hpp"
 #include "mission/mission_node.hpp"
 #include "mixer/mixer_node.hpp"
+#include "nav/nav_node.hpp"
+#include "nav/nav_params.hpp"
 #include "runtime/channels.hpp"
 #include "runtime/lockstep.hpp"
 #include "sensors/gnss_node.hpp"
@@ -42,6 +45,7 @@
 #include "sensors/power_node.hpp"
 #include "sensors/pressure_node.hpp"
 #include "sim/sim_node.hpp"
+#include "teleop/stick_script.hpp"
 #include "teleop/teleop_node.hpp"
 #include "teleop/teleop_params.hpp"
 
@@ -137,6 +141,9 @@ std::vector<Program> programs() {
       std::make_unique<control::VelocityPidNode>(control::load_velocity_pid_node_params(control)));
   add("tiller-station-keep",
       std::make_unique<control::StationKeepNode>(control::load_station_keep_node_params(control)));
+  add("tiller-rov-control",
+      std::make_unique<control::RovControlNode>(
+          control::load_rov_control_file(kRoot + "/config/control/seed001_rov6.yaml")));
   const auto guidance = config::Value::load_file(kRoot + "/config/guidance/default.yaml");
   add("tiller-path-follower",
       std::make_unique<guidance::PathFollowerNode>(guidance::load_follower_node_params(guidance)));
@@ -146,6 +153,8 @@ std::vector<Program> programs() {
   const auto teleop = load_teleop_file(kRoot + "/config/teleop/extreme3dpro_seed000.yaml");
   add("tiller-teleop", std::make_unique<TeleopNode>(teleop, TeleopNode::Input::device));
   add("tiller-teleop", std::make_unique<TeleopNode>(teleop, TeleopNode::Input::replay));
+  add("tiller-stick-script", std::make_unique<StickScriptNode>(
+                                 load_stick_script_file(kRoot + "/config/pilot/rov_demo.yaml")));
   const auto m = mission::load_mission_file(kRoot + "/config/missions/default.yaml");
   add("tiller-mission", std::make_unique<mission::MissionNode>(m, 1, kUsPerSecond));
   add("tiller-cockpit", std::make_unique<cockpit::CockpitNode>(
@@ -169,6 +178,8 @@ std::vector<Program> programs() {
   static sensors::FakeGpio gpio;
   add("tiller-leak", std::make_unique<sensors::LeakNode>(
                          sensors::load_leak_file(kRoot + "/config/sensors/leak_gpio.yaml"), gpio));
+  add("tiller-nav",
+      std::make_unique<nav::NavNode>(nav::load_nav_file(kRoot + "/config/nav/usv.yaml")));
   return out;
 }
 

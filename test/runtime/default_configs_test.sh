@@ -12,7 +12,7 @@ fail=0
 # tiller-mixer --describe exits at once: the default config and its vehicle file were found.
 out=$("$bin/tiller-mixer" --describe 2>&1); rc=$?
 if [ $rc -ne 0 ]; then echo "FAIL: tiller-mixer --describe from $work exited $rc: $out"; fail=1; fi
-names="velocity-pid station-keep path-follower mixer teleop esc sim"
+names="velocity-pid station-keep rov-control path-follower mixer teleop esc sim"
 for name in $names; do
   "$bin/tiller-$name" >"$work/$name.log" 2>&1 </dev/null &
   echo $! >"$work/$name.pid"

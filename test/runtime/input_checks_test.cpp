@@ -32,6 +32,7 @@
 #include "cockpit/cockpit_config.hpp"
 #include "cockpit/cockpit_node.hpp"
 #include "control/control_config.hpp"
+#include "control/rov_node.hpp"
 #include "control/station_keep_node.hpp"
 #include "control/velocity_pid_node.hpp"
 #include "core/config.hpp"
@@ -46,6 +47,8 @@
 #include "mission/mission.hpp"
 #include "mission/mission_node.hpp"
 #include "mixer/mixer_node.hpp"
+#include "nav/nav_node.hpp"
+#include "nav/nav_params.hpp"
 #include "runtime/channels.hpp"
 #include "runtime/lockstep.hpp"
 #include "sensors/gnss_node.hpp"
@@ -55,6 +58,7 @@
 #include "sensors/power_node.hpp"
 #include "sensors/pressure_node.hpp"
 #include "sim/sim_node.hpp"
+#include "teleop/stick_script.hpp"
 #include "teleop/teleop_node.hpp"
 #include "teleop/teleop_params.hpp"
 
@@ -137,6 +141,14 @@ struct OwnedMonitor : SupervisorBox, launch::LaunchMonitor {
 std::vector<NodeCase> node_cases() {
   std::vector<NodeCase> out;
   for (const auto& f : shipped("control")) {
+    if (config::Value::load_file(f).has("rov_control")) {  // an ROV's: tiller-rov-control
+      out.push_back({"RovControlNode", "tiller-rov-control " + rel(f), [f](InputContext& ctx) {
+                       ctx.thrusters = {"t1", "t2"};  // its gate input: names not checked
+                       return std::make_unique<control::RovControlNode>(
+                           control::load_rov_control_file(f));
+                     }});
+      continue;
+    }
     // The controllers read the mixer's thruster commands (its gate): a two-thruster command.
     out.push_back({"VelocityPidNode", "tiller-velocity-pid " + rel(f), [f](InputContext& ctx) {
                      ctx.thrusters = {"port", "starboard"};
@@ -187,6 +199,11 @@ std::vector<NodeCase> node_cases() {
                      }});
     }
   }
+  for (const auto& f : shipped("pilot")) {
+    out.push_back({"StickScriptNode", "tiller-stick-script " + rel(f), [f](InputContext&) {
+                     return std::make_unique<StickScriptNode>(load_stick_script_file(f));
+                   }});
+  }
   for (const auto& f : shipped("sensors")) {
     if (fs::path(f).filename().string().rfind("pressure", 0) != 0) continue;
     out.push_back({"PressureNode", "tiller-pressure " + rel(f), [f](InputContext&) {
@@ -227,6 +244,11 @@ std::vector<NodeCase> node_cases() {
     out.push_back({"LeakNode", "tiller-leak " + rel(f), [f](InputContext&) {
                      static sensors::FakeGpio gpio;  // outlives the nodes
                      return std::make_unique<sensors::LeakNode>(sensors::load_leak_file(f), gpio);
+                   }});
+  }
+  for (const auto& f : shipped("nav")) {
+    out.push_back({"NavNode", "tiller-nav " + rel(f), [f](InputContext&) {
+                     return std::make_unique<nav::NavNode>(nav::load_nav_file(f));
                    }});
   }
   // tiller-launch's monitor, watching every process of each shipped launch file.

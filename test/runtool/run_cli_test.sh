@@ -2,7 +2,8 @@
 # tiller-run end to end (no LCM: it runs in lockstep in one process): the default mission with a
 # log prints tiller-score's numbers, and tiller-score on the log prints the same lines; the log
 # reads back in tiller-log summary and replays through tiller-replay bit for bit; two runs write
-# identical log bytes; a 2x2 sweep prints 4 rows and writes a PNG; bad flags exit 2 naming them.
+# identical log bytes; a 2x2 sweep prints 4 rows and writes a PNG; a smoke subset of the missions
+# benchmark matrix (tools/missions-matrix) prints its row; bad flags exit 2 naming them.
 # Args: SOURCE_DIR BUILD_DIR
 set -u
 src="$1"
@@ -51,7 +52,18 @@ rows=$(grep -cE '^1\.(2|5) +(0|0\.3) +[0-9]' sweep.out)
 [ "$(head -c 4 grid.png | od -An -c | tr -d ' ')" = "211PNG" ] || bad "grid.png is not a PNG"
 [ "$(wc -l < grid.csv)" -eq 5 ] || bad "grid.csv has $(wc -l < grid.csv) lines (expected 5)"
 
-# 5. Bad input: exit 2 and a message naming it.
+# 5. The missions benchmark matrix (tools/missions-matrix), a smoke subset: one vehicle, one
+#    mission, one law, still water and one current direction: one markdown row with every
+#    score, the targets line and the closed-loop speed line.
+"$src/tools/missions-matrix" --build "$2" --vehicles seed004_usv_x --missions test/autonomy/arrive_mission.yaml \
+  --laws integral --directions 1 --out "$tmp/matrix" > matrix.out 2>&1 || bad "missions-matrix failed: $(tail -5 matrix.out)"
+cat matrix.out
+grep -Eq '^\| seed004_usv_x \| arrive_mission \| integral \| - / - \| [0-9.]+ / [0-9.]+ \| [0-9.]+ / [0-9.]+ \| [0-9.]+ \| [0-9.]+ / [0-9.]+ \| [0-9.]+ \|' matrix.out ||
+  bad "no matrix row for seed004_usv_x / arrive_mission / integral"
+grep -q '^2 runs, ' matrix.out || bad "the matrix did not count 2 runs"
+grep -Eq '^Closed loop alone .*[0-9]+x real time' matrix.out || bad "no closed-loop speed line"
+
+# 6. Bad input: exit 2 and a message naming it.
 check2() {  # check2 TEXT ARGS...: exit 2 and TEXT in the output
   text="$1"; shift
   out=$("$bin/tiller-run" "$@" 2>&1); rc=$?

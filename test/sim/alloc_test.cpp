@@ -80,5 +80,40 @@ TEST(SimAllocation, SimNodeTickAndEscDeliveryAllocateNothing) {
   EXPECT_EQ(node.rejected(), 0);
 }
 
+// With every simulated sensor on (the USV's file with GNSS as both TILLER_GNSS and NMEA to a
+// sink, then the ROV's with depth): sampling, noise, delay lines, NMEA text and publishing.
+TEST(SimAllocation, SimulatedSensorsAllocateNothing) {
+  struct Sink : sim::NmeaSink {
+    long bytes = 0;
+    void write(const char*, std::size_t n) override { bytes += static_cast<long>(n); }
+  };
+  for (const char* which : {"usv", "rov"}) {
+    SimParams p;
+    p.vehicle_file = kSrc + (std::string(which) == "usv" ? "/config/vehicles/otter.yaml"
+                                                         : "/config/vehicles/seed001_rov6.yaml");
+    p.sensors = sim::load_sensor_file(kSrc + "/config/sim/sensors/" + which + ".yaml", p.step_us);
+    p.sensors.gnss_nmea = true;
+    p.sensors.imu_timing.latency_us = 20'000;
+    p.sensors.imu_timing.dropout_probability = 0.1;
+    p.sensors.gnss_outages.push_back({from_seconds(5), from_seconds(8)});
+    p.sensors.leak.wet_after_s = 10;
+    SimNode node(p, load_sim_vehicle_file(p.vehicle_file));
+    Sink sink;
+    node.set_nmea_sink(&sink);
+    CountingBus bus;
+    node.attach(&bus);
+    TimeUs now = 0;
+    for (int k = 0; k < 300; ++k, now += p.step_us) node.tick(now);  // warm-up: 3 s
+    const long before = test::allocations();
+    const long published_before = bus.published;
+    for (int k = 0; k < 2000; ++k, now += p.step_us) node.tick(now);  // 20 s, outage, leak
+    EXPECT_EQ(test::allocations() - before, 0) << which;
+    EXPECT_GE(bus.published - published_before, 2000) << which;  // IMU alone: 1800
+    if (std::string(which) == "usv") {
+      EXPECT_GT(sink.bytes, 100 * 200) << which;
+    }
+  }
+}
+
 }  // namespace
 }  // namespace tiller

@@ -500,15 +500,19 @@ TEST(SimNode, ClosedLoopWithMixerAndEscInLockstep) {
 // 35 degrees, about 20 degrees steady, as the vehicle files' dynamics notes say). Seed 001's
 // pitch axis (F up, B down) pitches the nose up against the CB's righting moment; there the
 // pitch is the point, so only roll is bounded and the pitch must pass 10 degrees without
-// reaching 90.
+// reaching 90; the BlueROV2-class vehicle's roll axis (VL up, VR down) likewise.
 TEST(SimNode, RovsFlyEveryAxisFromFullDemandWithoutCapsizing) {
   struct Case {
     const char* vehicle;
     const char* esc;
     std::vector<int> axes;
+    double max_tilt_deg = 35;
   };
-  const Case cases[] = {{"seed001_rov6", "seed001_sim", {0, 1, 2, 4, 5}},
-                        {"seed000_rov4", "seed000_sim", {0, 1, 5}}};
+  const Case cases[] = {{"seed001_rov6", "seed001_sim", {0, 1, 2, 4, 5}, 35},
+                        {"seed000_rov4", "seed000_sim", {0, 1, 5}, 35},
+                        // Full surge from rest: 17.7 deg steady, a 35.4 deg peak as the thrust
+                        // steps in (50 ms lag) against the small pitch damping (Mq 0.8).
+                        {"bluerov2", "bluerov2_sim", {0, 1, 2, 3, 5}, 40}};
   for (const auto& c : cases) {
     for (int axis : c.axes) {
       MixerNode mixer(kSrc + "/config/mixer/" + c.vehicle + ".yaml");
@@ -530,19 +534,25 @@ TEST(SimNode, RovsFlyEveryAxisFromFullDemandWithoutCapsizing) {
         d.demand[axis] = t < 500'000 ? 0.0 : 1.0;  // centred first: the intent gate
         ex.inject(channels::kManualDemand, d, t);
       }
-      double max_tilt = 0, max_pitch = 0;
+      double max_tilt = 0, max_pitch = 0, max_roll = 0;
       for (TimeUs t = 0; t <= 20 * kUsPerSecond; t += 50'000) {
         ex.run_until(t);
         const auto& eta = sim.model().eta();
         max_pitch = std::max(max_pitch, std::abs(eta[4]));
-        max_tilt = std::max({max_tilt, std::abs(eta[3]), axis == 4 ? 0.0 : std::abs(eta[4])});
+        max_roll = std::max(max_roll, std::abs(eta[3]));
+        max_tilt = std::max(
+            {max_tilt, axis == 3 ? 0.0 : std::abs(eta[3]), axis == 4 ? 0.0 : std::abs(eta[4])});
       }
       SCOPED_TRACE(std::string(c.vehicle) + " axis " + std::to_string(axis));
       EXPECT_TRUE(esc.armed());
-      EXPECT_LT(max_tilt, deg_to_rad(35));
+      EXPECT_LT(max_tilt, deg_to_rad(c.max_tilt_deg));
       const auto& nu = sim.model().nu();
       if (axis < 3) {
         EXPECT_GT(nu[axis], 0.3);  // m/s along the demanded axis
+      } else if (axis == 3) {
+        EXPECT_GT(sim.model().eta()[3], deg_to_rad(10));  // rolled right, held there
+        EXPECT_LT(max_roll, deg_to_rad(89));
+        EXPECT_LT(sim.model().nu().head<3>().norm(), 0.1);  // rolls in place
       } else if (axis == 4) {
         EXPECT_GT(sim.model().eta()[4], deg_to_rad(10));  // nose up, held there
         EXPECT_LT(max_pitch, deg_to_rad(89));

@@ -34,7 +34,8 @@ struct Preset {
 };
 const Preset kPresets[] = {
     {"seed000_rov4", 4},  {"seed001_rov6", 6}, {"seed004_usv_x", 4}, {"seed004_usv_x_table", 4},
-    {"seed004_usv_h", 6}, {"otter", 2},        {"wamv", 2},          {"seed001_rov6_table", 6}};
+    {"seed004_usv_h", 6}, {"otter", 2},        {"wamv", 2},          {"seed001_rov6_table", 6},
+    {"bluerov2", 6}};
 
 TEST(Vehicle, EveryPresetLoads) {
   for (const auto& p : kPresets) {
@@ -51,6 +52,31 @@ TEST(Vehicle, EveryPresetLoads) {
     const Eigen::MatrixXd b = v.effectiveness();
     EXPECT_EQ(b.rows(), 6);
     EXPECT_EQ(b.cols(), p.thrusters);
+  }
+}
+
+TEST(Vehicle, BlueRov2EffectivenessMatrixIsTheHandComputedOne) {
+  // Column i = [d; r x d] (FRD, about the CG), a = cos 45 deg. Horizontal thrusters at
+  // (+-0.156, +-0.111, 0.085): r x d = (r_y d_z - r_z d_y, r_z d_x - r_x d_z, r_x d_y - r_y d_x),
+  // e.g. FL, r = (0.156, -0.111, 0.085), d = (a, a, 0): (-0.085 a, 0.085 a, 0.267 a). Vertical VL,
+  // r = (0, -0.111, 0), d = (0, 0, -1): (0.111, 0, 0), so pushing up on the left rolls right (+K).
+  const Vehicle v = load_vehicle_file(kVehicles + "bluerov2.yaml");
+  const double a = 0.70710678;
+  const double x = 0.085 * a, z = 0.267 * a;
+  Eigen::MatrixXd want(6, 6);
+  //         FL   FR   RL   RR    VL      VR
+  want << a, a, a, a, 0, 0,         // X: every horizontal thruster pushes forward
+      a, -a, -a, a, 0, 0,           // Y
+      0, 0, 0, 0, -1, -1,           // Z: both vertical thrusters push up
+      -x, x, x, -x, 0.111, -0.111,  // K: the horizontal ones' side effect, and the pair
+      x, x, x, x, 0, 0,             // M: forward thrust below the CG pitches the nose up
+      z, -z, z, -z, 0, 0;           // N
+  const char* order[6] = {"FL", "FR", "RL", "RR", "VL", "VR"};
+  for (int k = 0; k < 6; ++k) ASSERT_EQ(v.index_of(order[k]), k);
+  EXPECT_LT((v.effectiveness() - want).cwiseAbs().maxCoeff(), 1e-8) << v.effectiveness();
+  for (const auto& t : v.thrusters) {
+    EXPECT_NEAR(t.max_forward_n, 3.71 * kKgf, 0.01);  // T200 at 12 V, datasheet
+    EXPECT_NEAR(t.max_reverse_n, 2.90 * kKgf, 0.01);
   }
 }
 

@@ -27,6 +27,7 @@ class Tree : public ::testing::Test {
       fs::create_directories(dir_ / "config" / d);
     // The Otter's files, copied under another name: a complete boat.
     copy("vehicles/otter.yaml", "vehicles/boat.yaml");
+    copy("vehicles/otter.yaml", "vehicles/otter.yaml");  // control/otter.yaml's munk_compensation
     write("mixer/boat.yaml", "vehicle: ../vehicles/boat.yaml\nrate_hz: 50\n");
     write("esc/boat_sim.yaml",
           "vehicle: ../vehicles/boat.yaml\nbackend: sim\nescs:\n  - {name: port, channel: 0}\n"

@@ -1,0 +1,113 @@
+// tiller-rov-control's logic: the ROV's pilot modes (control/rov_modes.hpp) and their 6-DOF
+// per-axis controller (control/rov_axes.hpp). docs/flying.md, "ROV modes", is the user's view.
+//
+// Subscribes TILLER_MODE (the requested mode: teleop buttons, or a command such as
+// `tiller-rov-control --mode depth_hold`), TILLER_MANUAL_DEMAND (the pilot's stick, [-1, 1]^6
+// FRD), TILLER_ODOMETRY, TILLER_ALLOCATION_STATUS (the mixer's per-axis saturation: anti-windup)
+// and TILLER_THRUSTER_COMMAND (the mixer's safety gate: control/integrator_gate.hpp). Every tick
+// (rate_hz) it publishes TILLER_ARBITRATION (the mode in force and the source the mixer must
+// allocate) and TILLER_WRENCH_ROV (wrench_t SOURCE_ROV_CONTROL, body FRD, N and N m).
+// Modes and sources:
+//   manual (MANUAL_OPEN_LOOP)  arbitration SOURCE_MANUAL_DEMAND: the mixer allocates the stick
+//                              itself (seed 000's open loop, unchanged); the wrench is invalid
+//   any assisted mode          arbitration SOURCE_ROV_CONTROL: the mixer allocates this wrench
+// The thrust still leaves neutral only through the mixer's intent gate (lib/safety): these modes
+// belong to the pilot (the stick must be centred after arming, the stick's loss is an input
+// loss), and the wrench is invalid (so neutral, then the gate's disarm) while the pilot's demand
+// or the odometry is stale or invalid (odometry_t.valid without ATTITUDE and DEPTH is not
+// taken, counted in odometry.invalid; position hold also needs POSITION and VELOCITY).
+// Requests: a TILLER_MODE is acted on when it differs from the previous request (the teleop
+// repeats its mode every second); a mode the layout cannot fly (the axes it needs are
+// unactuated in the vehicle's effectiveness matrix, or position hold without a valid position)
+// is refused: counted (mode.refused), the reason naming the axis in the heartbeat's
+// status and the arbitration's reason, the mode in force kept.
+// No thrust step on a switch: every switch blends the wrench in force (what the mixer achieved
+// with the stick, coming from manual; the last published wrench otherwise) into the new mode's
+// over blend_s. Going back to manual the output blends into what the mixer's open-loop
+// allocation of the present stick achieves, then hands over to SOURCE_MANUAL_DEMAND.
+// Position hold whose position goes invalid gives the horizontal axes to the pilot until it is
+// valid again (then it holds where the vehicle is). Bad input is dropped and counted
+// (rejected.<input>.<reason>). Pure: messages and time in; no clock; nothing allocates per tick.
+#pragma once
+
+#include <array>
+#include <cstdint>
+#include <memory>
+#include <string>
+
+#include <tiller/allocation_status_t.hpp>
+#include <tiller/arbitration_t.hpp>
+#include <tiller/controller_mode_t.hpp>
+#include <tiller/manual_demand_t.hpp>
+#include <tiller/odometry_t.hpp>
+#include <tiller/thruster_command_t.hpp>
+#include <tiller/wrench_t.hpp>
+
+#include "allocation/allocator.hpp"
+#include "control/rov_axes.hpp"
+#include "control/rov_config.hpp"
+#include "control/rov_modes.hpp"
+#include "runtime/node.hpp"
+#include "vehicle/vehicle.hpp"
+
+namespace tiller::control {
+
+class RovControlNode : public Node {
+ public:
+  RovControlNode(const RovControlParams& p, const Vehicle& vehicle);
+  explicit RovControlNode(const RovControlParams& p);  // loads p.vehicle_file
+
+  void on_mode(const controller_mode_t& m, TimeUs now);
+  void on_manual(const manual_demand_t& m, TimeUs now);
+  void on_odometry(const odometry_t& m, TimeUs now);
+  void on_allocation(const allocation_status_t& m, TimeUs now);
+  void on_thruster_command(const thruster_command_t& m, TimeUs now);
+  void on_tick(TimeUs now) override;
+
+  std::int8_t mode() const { return mode_; }  // in force
+  bool leaving() const { return leaving_; }   // blending back into manual
+  const std::string& reason() const { return reason_; }
+  const RovAxes& axes() const { return axes_; }
+  const std::array<bool, 6>& actuated() const { return actuated_; }
+  const std::array<double, 6>& output() const { return last_out_; }
+  const RovControlParams& params() const { return p_; }
+
+ private:
+  bool position_valid(TimeUs now);
+  void switch_to(std::int8_t mode, const ModePlan& plan, TimeUs now);
+  void set_reason(const char* text);
+  void publish(TimeUs now, std::int8_t source, bool valid);
+
+  RovControlParams p_;
+  std::unique_ptr<Allocator> alloc_;
+  std::string vehicle_name_;
+  std::array<bool, 6> actuated_{};
+  RovAxes axes_;
+  ModePlan plan_;
+  std::int8_t mode_;
+  int requested_ = -1;  // the last TILLER_MODE acted on (-1: none yet)
+  bool leaving_ = false;
+  bool blending_ = false;
+  TimeUs blend_start_ = 0;
+  std::array<double, 6> from_{}, last_out_{};
+  // Inputs.
+  Freshness odom_fresh_, manual_fresh_, alloc_fresh_, cmd_fresh_;
+  odometry_t odom_{};
+  RovState state_;
+  std::array<double, 6> stick_{};
+  std::array<double, 6> achieved_{};
+  std::array<bool, 6> reduced_{};
+  std::int8_t alloc_source_ = wrench_t::SOURCE_NONE;
+  std::int8_t gate_ = thruster_command_t::GATE_DISARMED;
+  std::int8_t cmd_source_ = wrench_t::SOURCE_NONE;
+  AllocationResult manual_result_;
+  // Outputs.
+  wrench_t wrench_{};
+  arbitration_t arb_{};
+  std::string reason_, refusal_, status_;
+  std::int64_t stale_seen_ = 0;
+  std::int64_t *nan_odometry_, *range_odometry_, *invalid_odometry_, *bad_manual_, *bad_mode_,
+      *unavailable_, *bad_allocation_, *bad_command_, *switches_;
+};
+
+}  // namespace tiller::control
