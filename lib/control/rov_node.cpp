@@ -21,6 +21,11 @@ std::array<double, 6> axis_max(const Allocator& a, int sign) {
 }
 
 constexpr std::size_t kReasonRoom = 256;
+// What the assisted modes need of an odometry message (odometry_t.valid): attitude and rates,
+// depth; position hold also the horizontal position and velocity.
+constexpr std::int32_t kNeeds = int{odometry_t::VALID_ATTITUDE} | int{odometry_t::VALID_DEPTH};
+constexpr std::int32_t kNeedsForPosition =
+    kNeeds | int{odometry_t::VALID_POSITION} | int{odometry_t::VALID_VELOCITY};
 
 }  // namespace
 
@@ -48,6 +53,7 @@ RovControlNode::RovControlNode(const RovControlParams& p, const Vehicle& vehicle
   advertise<arbitration_t>(channels::kArbitration);
   nan_odometry_ = &counter("rejected.odometry.nan");
   range_odometry_ = &counter("rejected.odometry.range");
+  invalid_odometry_ = &counter("odometry.invalid");
   bad_manual_ = &counter("rejected.manual_demand.invalid");
   bad_mode_ = &counter("rejected.mode.invalid");
   unavailable_ = &counter("mode.refused");
@@ -79,6 +85,7 @@ void RovControlNode::set_reason(const char* text) {
 
 bool RovControlNode::position_valid(TimeUs now) {
   if (!odom_fresh_.fresh(now)) return false;
+  if ((odom_.valid & kNeedsForPosition) != kNeedsForPosition) return false;
   if (odom_.n_pose_cov != 36) return !p_.require_position_covariance;
   const double lim = p_.max_position_std_m * p_.max_position_std_m;
   return odom_.pose_covariance[0] <= lim && odom_.pose_covariance[7] <= lim;
@@ -147,6 +154,12 @@ void RovControlNode::on_odometry(const odometry_t& m, TimeUs now) {
   if (!on_time(odom_fresh_, m.utime, now, "odometry")) return;
   if (const char* why = checks::check(m)) {
     reject(std::string_view(why).ends_with(".nan") ? *nan_odometry_ : *range_odometry_);
+    return;
+  }
+  // Without a valid attitude (and rates) and depth the message is not taken: the odometry goes
+  // stale, so the assisted modes give an invalid wrench (neutral through the mixer's gate).
+  if ((m.valid & kNeeds) != kNeeds) {
+    ++*invalid_odometry_;
     return;
   }
   odom_ = m;

@@ -14,7 +14,8 @@
 // The thrust still leaves neutral only through the mixer's intent gate (lib/safety): these modes
 // belong to the pilot (the stick must be centred after arming, the stick's loss is an input
 // loss), and the wrench is invalid (so neutral, then the gate's disarm) while the pilot's demand
-// or the odometry is stale or invalid.
+// or the odometry is stale or invalid (odometry_t.valid without ATTITUDE and DEPTH is not
+// taken, counted in odometry.invalid; position hold also needs POSITION and VELOCITY).
 // Requests: a TILLER_MODE is acted on when it differs from the previous request (the teleop
 // repeats its mode every second); a mode the layout cannot fly (the axes it needs are
 // unactuated in the vehicle's effectiveness matrix, or position hold without a valid position)
@@ -105,8 +106,8 @@ class RovControlNode : public Node {
   arbitration_t arb_{};
   std::string reason_, refusal_, status_;
   std::int64_t stale_seen_ = 0;
-  std::int64_t *nan_odometry_, *range_odometry_, *bad_manual_, *bad_mode_, *unavailable_,
-      *bad_allocation_, *bad_command_, *switches_;
+  std::int64_t *nan_odometry_, *range_odometry_, *invalid_odometry_, *bad_manual_, *bad_mode_,
+      *unavailable_, *bad_allocation_, *bad_command_, *switches_;
 };
 
 }  // namespace tiller::control

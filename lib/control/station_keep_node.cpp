@@ -17,6 +17,14 @@ namespace tiller::control {
 // Status lines as strings made once (set_health takes a std::string; no allocation per tick).
 const std::string kHolding = "odometry stale: holding the last wrench";
 const std::string kNeutral = "odometry stale: neutral";
+const std::string kRefused =
+    "position hold refused: odometry has no valid position and velocity (no position source, or "
+    "dead reckoning past its limit): neutral";
+const std::string kRefusedHolding =
+    "position hold refused: odometry has no valid position and velocity: holding the last wrench";
+// What station keeping needs of an odometry message (odometry_t.valid).
+constexpr std::int32_t kNeeds = int{odometry_t::VALID_POSITION} | int{odometry_t::VALID_VELOCITY} |
+                                int{odometry_t::VALID_ATTITUDE};
 const std::string kNoTarget = "idle: no target";
 const std::string kKeeping = "station keeping";
 const std::string kStandby = "standing by (not the active source)";
@@ -69,6 +77,13 @@ void StationKeepNode::on_odometry(const odometry_t& m, TimeUs now) {
     reject(std::string_view(why).ends_with(".nan")
                ? *nan_odometry_
                : first_use(range_odometry_, "rejected.odometry.range"));
+    return;
+  }
+  // A well-formed estimate without the parts a hold needs: not taken, so the odometry goes
+  // stale (docs/safety.md: hold the last wrench for hold_s or neutral), and said so.
+  odom_invalid_ = (m.valid & kNeeds) != kNeeds;
+  if (odom_invalid_) {
+    ++first_use(invalid_odometry_, "odometry.invalid");
     return;
   }
   odom_ = m;
@@ -168,12 +183,12 @@ void StationKeepNode::on_tick(TimeUs now) {
     if (hold) {
       publish_wrench(now, last_wrench_.valid, last_wrench_.tau[0], last_wrench_.tau[1],
                      last_wrench_.tau[5]);
-      set_health(heartbeat_t::STATE_DEGRADED, kHolding);
+      set_health(heartbeat_t::STATE_DEGRADED, odom_invalid_ ? kRefusedHolding : kHolding);
     } else {
       // Invalid: no wrench to give (nothing to hold on). The mixer counts it as input lost:
       // neutral at once, and a disarm request after safety.disarm_after_s.
       publish_wrench(now, false, 0, 0, 0);
-      set_health(heartbeat_t::STATE_DEGRADED, kNeutral);
+      set_health(heartbeat_t::STATE_DEGRADED, odom_invalid_ ? kRefused : kNeutral);
     }
     last_odom_utime_ = -1;
     return;

@@ -83,6 +83,8 @@ class StationKeepNode : public Node {
   Blend blend_;
   bool was_active_ = false;
   std::int64_t *nan_odometry_, *bad_target_, *bad_velocity_wrench_;
+  bool odom_invalid_ = false;  // the last odometry lacked position, velocity or attitude
+  std::int64_t* invalid_odometry_ = nullptr;                             // made on first use
   std::int64_t *range_odometry_ = nullptr, *bad_arbitration_ = nullptr,  // made on first use
                                                *bad_allocation_ = nullptr,
                *range_velocity_wrench_ = nullptr, *bad_command_ = nullptr;

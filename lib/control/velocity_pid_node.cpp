@@ -16,6 +16,11 @@ namespace tiller::control {
 // Status lines as strings made once (set_health takes a std::string; no allocation per tick).
 const std::string kHolding = "odometry stale: holding the last wrench";
 const std::string kNeutral = "odometry stale: neutral";
+const std::string kInvalid = "odometry has no valid velocity and attitude: neutral";
+const std::string kInvalidHolding =
+    "odometry has no valid velocity and attitude: holding the last wrench";
+// What the velocity PID needs of an odometry message (odometry_t.valid): u v r and heading.
+constexpr std::int32_t kNeeds = int{odometry_t::VALID_VELOCITY} | int{odometry_t::VALID_ATTITUDE};
 
 namespace {
 constexpr int kAxis[3] = {0, 1, 5};  // [X Y N] in tau / allocation_status_t arrays
@@ -74,6 +79,12 @@ void VelocityPidNode::on_odometry(const odometry_t& m, TimeUs now) {
     reject(std::string_view(why).ends_with(".nan")
                ? *nan_odometry_
                : first_use(range_odometry_, "rejected.odometry.range"));
+    return;
+  }
+  // Without a valid velocity and attitude the message is not taken: the odometry goes stale.
+  odom_invalid_ = (m.valid & kNeeds) != kNeeds;
+  if (odom_invalid_) {
+    ++first_use(invalid_odometry_, "odometry.invalid");
     return;
   }
   odom_ = m;
@@ -245,12 +256,12 @@ void VelocityPidNode::on_tick(TimeUs now) {
     if (hold) {
       publish_wrench(now, last_wrench_.valid, last_wrench_.tau[0], last_wrench_.tau[1],
                      last_wrench_.tau[5]);
-      set_health(heartbeat_t::STATE_DEGRADED, kHolding);
+      set_health(heartbeat_t::STATE_DEGRADED, odom_invalid_ ? kInvalidHolding : kHolding);
     } else {
       // Invalid: no wrench to give (nothing to hold on). The mixer counts it as input lost:
       // neutral at once, and a disarm request after safety.disarm_after_s.
       publish_wrench(now, false, 0, 0, 0);
-      set_health(heartbeat_t::STATE_DEGRADED, kNeutral);
+      set_health(heartbeat_t::STATE_DEGRADED, odom_invalid_ ? kInvalid : kNeutral);
     }
     last_odom_utime_ = -1;
     return;

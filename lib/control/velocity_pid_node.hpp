@@ -95,6 +95,8 @@ class VelocityPidNode : public Node {
   std::int8_t prev_mode_ = -1;    // the arbiter's mode at the previous tick
   std::int64_t *nan_odometry_, *bad_setpoint_, *bad_manual_, *bad_progress_, *bad_mode_,
       *bad_station_wrench_;
+  bool odom_invalid_ = false;                 // the last odometry lacked velocity or attitude
+  std::int64_t* invalid_odometry_ = nullptr;  // made on first use
   std::int64_t *range_odometry_ = nullptr, *bad_allocation_ = nullptr,  // made on first use
                                                *range_station_wrench_ = nullptr,
                *bad_command_ = nullptr;

@@ -89,10 +89,11 @@ bool has(const V& v, std::int32_t n) {
 }
 }  // namespace detail
 
-// odometry_t: position and velocity finite; roll and yaw in (-pi, pi], pitch in
-// [-pi/2, pi/2] (ZYX Euler); covariances 0 or 36 finite entries.
+// odometry_t: known validity bits only (0..31); position and velocity finite; roll and yaw in
+// (-pi, pi], pitch in [-pi/2, pi/2] (ZYX Euler); covariances 0 or 36 finite entries.
 inline Reason check(const odometry_t& m) {
   using namespace detail;
+  if (m.valid < 0 || m.valid > 31) return "valid.unknown";
   if (!finite(m.position, 3)) return "position.nan";
   if (!finite(m.orientation, 3)) return "orientation.nan";
   if (!heading(m.orientation[0])) return "roll.range";

@@ -77,7 +77,7 @@ void FailsafeNode::on_odometry(const odometry_t& m, TimeUs now) {
   const double c = std::cos(m.orientation[2]), s = std::sin(m.orientation[2]);
   const double u = m.velocity[0], v = m.velocity[1];
   monitor_.on_odometry(m.position[0], m.position[1], m.position[2], c * u - s * v, s * u + c * v,
-                       true, now);
+                       (m.valid & odometry_t::VALID_POSITION) != 0, now);
 }
 
 void FailsafeNode::on_mission_command(const mission_command_t& m, TimeUs now) {

@@ -129,6 +129,14 @@ void PathFollowerNode::on_odometry(const odometry_t& m, TimeUs now) {
     }
     return;
   }
+  // Following needs the position and the heading (odometry_t.valid): without them the message
+  // is not taken and the odometry goes stale (setpoint inactive).
+  constexpr std::int32_t needs = int{odometry_t::VALID_POSITION} | int{odometry_t::VALID_ATTITUDE};
+  if ((m.valid & needs) != needs) {
+    if (!invalid_odometry_) invalid_odometry_ = &counter("odometry.invalid");
+    ++*invalid_odometry_;
+    return;
+  }
   pos_ = Vec2(m.position[0], m.position[1]);
   heading_ = wrap_pi(m.orientation[2]);
   odom_time_ = m.utime;

@@ -70,10 +70,11 @@ class PathFollowerNode : public Node {
   bool pending_ = false;
   std::vector<Waypoint> pending_points_;
   std::int64_t* nan_odometry_;
-  std::int64_t* range_odometry_ = nullptr;   // made on first use
-  std::int64_t* bad_mode_ = nullptr;         // made on first use
-  std::int64_t* bad_command_ = nullptr;      // made on first use
-  std::int64_t* dropped_repeats_ = nullptr;  // made on first use
+  std::int64_t* range_odometry_ = nullptr;    // made on first use
+  std::int64_t* invalid_odometry_ = nullptr;  // made on first use
+  std::int64_t* bad_mode_ = nullptr;          // made on first use
+  std::int64_t* bad_command_ = nullptr;       // made on first use
+  std::int64_t* dropped_repeats_ = nullptr;   // made on first use
   std::int64_t* invalid_path_;
   std::int64_t* paths_started_;
 };

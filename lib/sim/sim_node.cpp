@@ -348,6 +348,7 @@ void SimNode::sense(const sim::Vector6& nu_before, double dt) {
 void SimNode::fill_odometry(odometry_t& o, const sim::Vector6& eta, const sim::Vector6& nu,
                             TimeUs now) {
   o.utime = now;
+  o.valid = odometry_t::VALID_ALL;  // the simulator's state (truth, or truth + noise) is whole
   for (int i = 0; i < 3; ++i) {
     o.position[i] = eta[i];
     o.orientation[i] = eta[3 + i];

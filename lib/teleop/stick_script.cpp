@@ -15,6 +15,7 @@ namespace tiller {
 namespace {
 
 constexpr std::int64_t kAxisMax = 32767;
+constexpr std::int32_t kNeeds = int{odometry_t::VALID_DEPTH} | int{odometry_t::VALID_ATTITUDE};
 
 StickStep load_step(const config::Value& s, const StickScriptParams& p) {
   StickStep st;
@@ -60,12 +61,20 @@ StickStep load_step(const config::Value& s, const StickScriptParams& p) {
   if (auto m = s.find("measure")) {
     if (m->has("depth_m")) st.depth_m = m->number("depth_m", {-100.0, 1000.0});
     if (m->has("turn_deg")) st.turn_rad = m->angle_deg("turn_deg", {-3600.0, 3600.0});
-    if (std::isnan(st.depth_m) && std::isnan(st.turn_rad)) m->fail("depth_m and / or turn_deg");
+    if (m->has("depth")) st.depth_held = m->choice("depth", {"held"}) == "held";
+    if (m->has("heading")) st.heading_held = m->choice("heading", {"held"}) == "held";
+    if (st.depth_held && !std::isnan(st.depth_m)) m->at("depth").fail("depth_m or depth, not both");
+    if (st.heading_held && !std::isnan(st.turn_rad))
+      m->at("heading").fail("turn_deg or heading, not both");
+    if (!st.measured()) m->fail("depth_m or depth: held, and / or turn_deg or heading: held");
     st.settle = from_seconds(m->number_or("settle_s", 0.0, {0.0, 3600.0}));
     st.max_depth_rms_m =
         m->number_or("max_depth_rms_m", st.max_depth_rms_m, config::Range::positive());
     if (m->has("max_heading_rms_deg"))
       st.max_heading_rms_rad = m->angle_deg("max_heading_rms_deg", {0.0, 360.0});
+    st.max_depth_m = m->number_or("max_depth_m", st.max_depth_m, config::Range::positive());
+    if (m->has("max_heading_deg"))
+      st.max_heading_rad = m->angle_deg("max_heading_deg", {0.0, 360.0});
   }
   return st;
 }
@@ -97,6 +106,7 @@ StickScriptNode::StickScriptNode(StickScriptParams p)
     : Node("stick-script", p.period), p_(std::move(p)), odom_fresh_(p_.odometry_timeout) {
   subscribe(channels::kOdometry, &StickScriptNode::on_odometry);
   rejected_odom_ = &counter("rejected.odometry.invalid");
+  invalid_odom_ = &counter("odometry.invalid");
   js_.device = "stick-script";
   js_.connected = true;
   js_.n_axes = p_.n_axes;
@@ -110,6 +120,12 @@ void StickScriptNode::on_odometry(const odometry_t& o, TimeUs now) {
   if (!on_time(odom_fresh_, o.utime, now, "odometry")) return;
   if (checks::check(o) != nullptr) {
     reject(*rejected_odom_);
+    return;
+  }
+  // The pilot watches the depth gauge and the compass: odometry without a valid depth and
+  // attitude (odometry_t.valid) is not taken, so it goes stale and a step needing it fails.
+  if ((o.valid & kNeeds) != kNeeds) {
+    ++*invalid_odom_;
     return;
   }
   odom_fresh_.mark(now, o.utime, clock_offset());
@@ -145,13 +161,17 @@ void StickScriptNode::start_step(int i, TimeUs now) {
   for (const auto& [axis, value] : s.axes) js_.axes[static_cast<std::size_t>(axis)] = value;
   std::fill(js_.buttons.begin(), js_.buttons.end(), false);
   for (int b : s.press) js_.buttons[static_cast<std::size_t>(b)] = true;
-  if (!std::isnan(s.depth_m) || !std::isnan(s.turn_rad)) {
+  if (s.measured()) {
     StickMeasure m;
     m.step = s.name;
-    m.depth = !std::isnan(s.depth_m);
-    m.heading = !std::isnan(s.turn_rad);
+    m.depth = s.depth_held || !std::isnan(s.depth_m);
+    m.heading = s.heading_held || !std::isnan(s.turn_rad);
+    m.depth_ref = s.depth_m;
+    m.heading_ref = start_heading_ + s.turn_rad;
     measures_.push_back(m);
   }
+  std::fprintf(stderr, "tiller-stick-script: step %d/%zu: %s\n", i + 1, p_.steps.size(),
+               s.name.c_str());
   set_stick(now);
   set_health(heartbeat_t::STATE_OK, "step " + std::to_string(i + 1) + "/" +
                                         std::to_string(p_.steps.size()) + ": " + s.name);
@@ -196,23 +216,26 @@ void StickScriptNode::on_tick(TimeUs now) {
     std::fill(js_.buttons.begin(), js_.buttons.end(), false);  // released
     set_stick(now);
   }
-  const bool needs_odom =
-      s.until != StickStep::Until::time || !std::isnan(s.depth_m) || !std::isnan(s.turn_rad);
+  const bool needs_odom = s.until != StickStep::Until::time || s.measured();
   if (needs_odom && !fresh) {
     fail("odometry lost during step '" + s.name + "'", now);
     return;
   }
-  if ((!std::isnan(s.depth_m) || !std::isnan(s.turn_rad)) && t >= s.settle) {
+  if (s.measured() && t >= s.settle) {
     StickMeasure& m = measures_.back();
+    if (m.samples == 0) {  // `held`: against what the vehicle has when the measurement begins
+      if (s.depth_held) m.depth_ref = depth_;
+      if (s.heading_held) m.heading_ref = heading_;
+    }
     ++m.samples;
     if (m.depth) {
-      const double e = std::abs(depth_ - s.depth_m);
+      const double e = std::abs(depth_ - m.depth_ref);
       sum_d2_ += e * e;
       m.depth_max = std::max(m.depth_max, e);
       m.depth_rms = std::sqrt(sum_d2_ / m.samples);
     }
     if (m.heading) {
-      const double e = std::abs(angle_diff(heading_, start_heading_ + s.turn_rad));
+      const double e = std::abs(angle_diff(heading_, m.heading_ref));
       sum_h2_ += e * e;
       m.heading_max = std::max(m.heading_max, e);
       m.heading_rms = std::sqrt(sum_h2_ / m.samples);
@@ -221,8 +244,10 @@ void StickScriptNode::on_tick(TimeUs now) {
   if (t >= s.hold && condition_met(s)) {
     if (!measures_.empty() && measures_.back().step == s.name) {
       StickMeasure& m = measures_.back();
-      m.passed = m.samples > 0 && !(m.depth && m.depth_rms > s.max_depth_rms_m) &&
-                 !(m.heading && m.heading_rms > s.max_heading_rms_rad);
+      m.passed = m.samples > 0 &&
+                 !(m.depth && (m.depth_rms > s.max_depth_rms_m || m.depth_max > s.max_depth_m)) &&
+                 !(m.heading &&
+                   (m.heading_rms > s.max_heading_rms_rad || m.heading_max > s.max_heading_rad));
       if (!m.passed) why_ = "step '" + s.name + "': error over its limit";
     }
     start_step(step_ + 1, now);
@@ -236,16 +261,19 @@ std::string StickScriptNode::report() const {
   char line[256];
   for (const StickMeasure& m : measures_) {
     if (m.depth) {
-      std::snprintf(line, sizeof line,
-                    "%-22s depth error   RMS %.3f m   max %.3f m   (%d samples)%s\n",
-                    m.step.c_str(), m.depth_rms, m.depth_max, m.samples, m.passed ? "" : "  OVER");
+      std::snprintf(
+          line, sizeof line,
+          "%-22s depth error   RMS %.3f m   max %.3f m   (%d samples, against %.3f m)%s\n",
+          m.step.c_str(), m.depth_rms, m.depth_max, m.samples, m.depth_ref,
+          m.passed ? "" : "  OVER");
       out += line;
     }
     if (m.heading) {
-      std::snprintf(line, sizeof line,
-                    "%-22s heading error RMS %.2f deg max %.2f deg (%d samples)%s\n",
-                    m.step.c_str(), rad_to_deg(m.heading_rms), rad_to_deg(m.heading_max), m.samples,
-                    m.passed ? "" : "  OVER");
+      std::snprintf(
+          line, sizeof line,
+          "%-22s heading error RMS %.2f deg max %.2f deg (%d samples, against %.1f deg)%s\n",
+          m.step.c_str(), rad_to_deg(m.heading_rms), rad_to_deg(m.heading_max), m.samples,
+          rad_to_deg(wrap_pi(m.heading_ref)), m.passed ? "" : "  OVER");
       out += line;
     }
   }

@@ -6,12 +6,17 @@
 // the FIFO that tiller-teleop reads as its device, so the demand takes the real joystick path:
 // the teleop's centring, arming, deadzone and mode buttons all apply, nothing is bypassed.
 // A step may measure: the depth error against a depth (m) and the heading error against the
-// start heading plus an angle, after a settling time; RMS and largest, checked against limits
-// at the end (report()). Pure: no device, no clock (time is what the executor tells).
-// A step whose end condition is not met by its timeout, or odometry lost (older than the
-// timeout) while a step needs it, fails the script: the stick is centred and the script stops.
+// start heading plus an angle, or either against the value held when the measurement begins
+// (`held`: what a depth-hold or heading-hold mode should keep), after a settling time; RMS and
+// largest, checked against limits at the end (report()). Each step's start is printed on
+// stderr ("tiller-stick-script: step 3/9: dive"), so a harness can act at a step. Pure: no
+// device, no clock (time is what the executor tells). A step whose end condition is not met by
+// its timeout, or odometry lost (older than the timeout, or without a valid depth and attitude
+// in odometry_t.valid: not taken, counted in odometry.invalid) while a step needs it, fails the
+// script: the stick is centred and the script stops.
 #pragma once
 
+#include <cmath>
 #include <cstdint>
 #include <functional>
 #include <limits>
@@ -39,9 +44,15 @@ struct StickStep {
   // Measurement over the step, from `settle` after its start. NaN: not measured.
   double depth_m = std::numeric_limits<double>::quiet_NaN();
   double turn_rad = std::numeric_limits<double>::quiet_NaN();  // heading = start + turn
+  bool depth_held = false, heading_held = false;  // against the value at the first sample
   TimeUs settle = 0;
   double max_depth_rms_m = std::numeric_limits<double>::infinity();
   double max_heading_rms_rad = std::numeric_limits<double>::infinity();
+  double max_depth_m = std::numeric_limits<double>::infinity();      // largest |error| allowed
+  double max_heading_rad = std::numeric_limits<double>::infinity();  // largest |error| allowed
+  bool measured() const {
+    return depth_held || heading_held || !std::isnan(depth_m) || !std::isnan(turn_rad);
+  }
 };
 
 struct StickScriptParams {
@@ -63,6 +74,7 @@ struct StickMeasure {
   int samples = 0;
   double depth_rms = 0, depth_max = 0;      // m, |error|
   double heading_rms = 0, heading_max = 0;  // rad, |error|
+  double depth_ref = 0, heading_ref = 0;    // m, rad: what the errors are measured against
   bool depth = false, heading = false;      // what was measured
   bool passed = true;
 };
@@ -107,7 +119,7 @@ class StickScriptNode : public Node {
   std::string why_;
   std::vector<StickMeasure> measures_;
   double sum_d2_ = 0, sum_h2_ = 0;
-  std::int64_t* rejected_odom_;
+  std::int64_t *rejected_odom_, *invalid_odom_;
 };
 
 }  // namespace tiller

@@ -92,6 +92,11 @@ void TeleopNode::on_odometry(const odometry_t& o, TimeUs now) {
     }
     return;
   }
+  // Heading hold needs the attitude only (an ROV without a position source still has it).
+  if (!(o.valid & odometry_t::VALID_ATTITUDE)) {
+    ++counter("odometry.invalid");  // made on first use
+    return;
+  }
   heading_ = o.orientation[2];  // in (-pi, pi] by the check
   odom_fresh_.mark(now, o.utime, clock_offset());
 }

@@ -65,6 +65,7 @@ RunResult run_mission(const RunConfig& c) {
   double last_x = 0, last_y = 0;
   TimeUs switched_until = -1;
   odometry_t o{};
+  o.valid = odometry_t::VALID_ALL;
   path_progress_t pr{};
   arbitration_t arb{};
   velocity_setpoint_t sp{};

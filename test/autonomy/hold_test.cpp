@@ -98,6 +98,7 @@ HoldRun run(const std::vector<Event>& events, double end_s, bool can_hold = true
   bool have_origin = false, started = false;
   double on = 0, oe = 0;
   odometry_t o{};
+  o.valid = odometry_t::VALID_ALL;
   thruster_command_t cmd{}, last{};
   bool have_last = false;
   double switched_at = -1e9;

@@ -96,6 +96,7 @@ LossRun run_follower_loss(double loss_s, double end_s, bool can_hold) {
   double switched_at = -1e9;
   double on = 0, oe = 0;
   odometry_t o{};
+  o.valid = odometry_t::VALID_ALL;
   thruster_command_t cmd{}, last{};
   arbitration_t arb{};
   arm_state_t arm{};
@@ -213,6 +214,7 @@ TEST(LinkLoss, StaleOdometryGivesNeutralThenDisarm) {
   for (TimeUs t = 0; t < 20'000'000; t += 50'000) {
     if (t < 10'000'000) {
       odometry_t o{};
+      o.valid = odometry_t::VALID_ALL;
       o.utime = t;
       ex.inject(channels::kOdometry, o, t);
     }

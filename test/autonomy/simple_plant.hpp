@@ -75,6 +75,7 @@ class SimplePlant : public Node {
     psi_ = std::remainder(psi_ + r_ * dt, 2 * 3.14159265358979323846);
     if (now % 50'000 == 0) {
       odometry_t o{};
+      o.valid = odometry_t::VALID_ALL;
       o.utime = now;
       o.position[0] = n_;
       o.position[1] = e_;

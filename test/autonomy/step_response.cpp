@@ -28,6 +28,7 @@ StepResult velocity_step(const std::string& control_file, double command,
   ex.add(vpid);
   StepResult r;
   odometry_t o{};
+  o.valid = odometry_t::VALID_ALL;
   ex.observe([&](const std::string& ch, const std::uint8_t* d, int n, TimeUs t) {
     if (ch == channels::kOdometry && o.decode(d, 0, n) == n) {
       r.t.push_back(to_seconds(t));

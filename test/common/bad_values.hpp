@@ -23,7 +23,9 @@
 #include <tiller/controller_mode_t.hpp>
 #include <tiller/esc_output_t.hpp>
 #include <tiller/gnss_fix_t.hpp>
+#include <tiller/heading_t.hpp>
 #include <tiller/heartbeat_t.hpp>
+#include <tiller/imu_t.hpp>
 #include <tiller/joystick_state_t.hpp>
 #include <tiller/leak_t.hpp>
 #include <tiller/manual_demand_t.hpp>
@@ -33,6 +35,7 @@
 #include <tiller/path_progress_t.hpp>
 #include <tiller/path_t.hpp>
 #include <tiller/power_t.hpp>
+#include <tiller/pressure_t.hpp>
 #include <tiller/station_target_t.hpp>
 #include <tiller/thruster_command_t.hpp>
 #include <tiller/vehicle_status_t.hpp>
@@ -81,6 +84,7 @@ template <>
 inline odometry_t good(const std::string&, TimeUs t, const InputContext&) {
   odometry_t m{};
   m.utime = t;
+  m.valid = odometry_t::VALID_ALL;
   m.position[0] = 0.5 * to_seconds(t);
   m.position[1] = 0.1;
   m.orientation[2] = 0.5;
@@ -216,28 +220,6 @@ inline heartbeat_t good(const std::string& channel, TimeUs t, const InputContext
 }
 
 template <>
-inline gnss_fix_t good(const std::string&, TimeUs t, const InputContext&) {
-  gnss_fix_t m{};
-  m.utime = t;
-  m.gnss_utime = 1'780'000'000'000'000 + t;
-  m.fix_type = gnss_fix_t::FIX_3D;
-  m.satellites = 9;
-  m.latitude = 59.43;
-  m.longitude = 10.47;
-  m.altitude = 40.0;
-  m.altitude_msl = 1.0;
-  m.position_std[0] = m.position_std[1] = 1.2;
-  m.position_std[2] = 2.5;
-  m.accuracy_source = gnss_fix_t::ACCURACY_RECEIVER;
-  m.hdop = 0.9;
-  m.velocity_valid = true;
-  m.speed = 1.0;
-  m.course = 0.5;
-  m.device = "sim";
-  return m;
-}
-
-template <>
 inline power_t good(const std::string&, TimeUs t, const InputContext&) {
   power_t m{};
   m.utime = t;
@@ -353,6 +335,74 @@ inline joystick_state_t good(const std::string&, TimeUs t, const InputContext&) 
   return m;
 }
 
+// Sensors (tiller-nav's inputs): one vehicle 2 m deep, heading 0.5 rad, going north at 0.5 m/s,
+// level; fixes consistent with it (latitude 59.43 deg + 0.5 m/s north).
+template <>
+inline gnss_fix_t good(const std::string&, TimeUs t, const InputContext&) {
+  gnss_fix_t m{};
+  m.utime = t;
+  m.gnss_utime = 1'780'000'000'000'000 + t;
+  m.fix_type = gnss_fix_t::FIX_3D;
+  m.satellites = 10;
+  m.latitude = 59.43 + 0.5 * to_seconds(t) / 111'300.0;
+  m.longitude = 10.47;
+  m.altitude = 40.0;
+  m.altitude_msl = 1.0;
+  m.position_std[0] = m.position_std[1] = 1.5;
+  m.position_std[2] = 3.0;
+  m.accuracy_source = gnss_fix_t::ACCURACY_RECEIVER;
+  m.hdop = 0.9;
+  m.velocity_valid = true;
+  m.speed = 0.5;
+  m.course = 0.0;
+  m.device = "test";
+  return m;
+}
+
+template <>
+inline imu_t good(const std::string&, TimeUs t, const InputContext&) {
+  imu_t m{};
+  m.utime = t;
+  m.specific_force[2] = -9.81;
+  m.orientation_valid = true;
+  m.orientation[0] = std::cos(0.25);  // yaw 0.5 rad about down
+  m.orientation[3] = std::sin(0.25);
+  for (int i : {0, 4, 8}) {
+    m.angular_rate_covariance[i] = 1e-4;
+    m.specific_force_covariance[i] = 0.01;
+    m.orientation_covariance[i] = 3e-4;
+  }
+  m.calibration_system = m.calibration_gyro = m.calibration_accel = m.calibration_mag = 3;
+  m.temperature = 25.0;
+  return m;
+}
+
+template <>
+inline heading_t good(const std::string&, TimeUs t, const InputContext&) {
+  heading_t m{};
+  m.utime = t;
+  m.heading = 0.5;
+  m.variance = 1e-3;
+  m.reference = heading_t::REFERENCE_TRUE;
+  m.source = heading_t::SOURCE_AHRS;
+  m.device = "test";
+  return m;
+}
+
+template <>
+inline pressure_t good(const std::string&, TimeUs t, const InputContext&) {
+  pressure_t m{};
+  m.utime = t;
+  m.water_density = 1025.0;
+  m.surface_pressure = 101325.0;
+  m.depth = 2.0;
+  m.pressure = m.surface_pressure + m.depth * m.water_density * 9.80665;
+  m.temperature = 12.0;
+  m.depth_variance = 1e-4;
+  m.sensor = "test";
+  return m;
+}
+
 // ---- bad values: each takes good<Msg>() outside its contract.
 template <class Msg>
 std::vector<BadValue<Msg>> bad_values();
@@ -379,6 +429,7 @@ inline std::vector<BadValue<odometry_t>> bad_values() {
       {"yaw 4 rad", kOR, [](odometry_t& m) { m.orientation[2] = 4.0; }},
       {"yaw -pi", kOR, [](odometry_t& m) { m.orientation[2] = -kTestPi; }},
       {"pitch 1.6 rad", kOR, [](odometry_t& m) { m.orientation[1] = 1.6; }},
+      {"unknown validity bit 32", kOR, [](odometry_t& m) { m.valid |= 32; }},
       {"pose covariance of 9", kOR,
        [](odometry_t& m) {
          m.n_pose_cov = 9;
@@ -390,6 +441,53 @@ inline std::vector<BadValue<odometry_t>> bad_values() {
          m.velocity_covariance.assign(36, 0.0);
          m.velocity_covariance[7] = NAN;
        }},
+  };
+}
+
+template <>
+inline std::vector<BadValue<gnss_fix_t>> bad_values() {
+  return {
+      {"latitude NaN", kNF, [](gnss_fix_t& m) { m.latitude = NAN; }},
+      {"latitude 91 deg", kOR, [](gnss_fix_t& m) { m.latitude = 91.0; }},
+      {"longitude inf", kNF, [](gnss_fix_t& m) { m.longitude = INFINITY; }},
+      {"course 4 rad", kOR, [](gnss_fix_t& m) { m.course = 4.0; }},
+      {"speed -1 m/s", kOR, [](gnss_fix_t& m) { m.speed = -1.0; }},
+      {"position std NaN", kNF, [](gnss_fix_t& m) { m.position_std[0] = NAN; }},
+      {"position std -1", kOR, [](gnss_fix_t& m) { m.position_std[0] = -1; }},
+      {"unknown fix type", kOR, [](gnss_fix_t& m) { m.fix_type = 9; }},
+  };
+}
+
+template <>
+inline std::vector<BadValue<imu_t>> bad_values() {
+  return {
+      {"angular rate NaN", kNF, [](imu_t& m) { m.angular_rate[2] = NAN; }},
+      {"angular rate 50 rad/s", kOR, [](imu_t& m) { m.angular_rate[0] = 50.0; }},
+      {"quaternion of norm 2", kOR, [](imu_t& m) { m.orientation[0] = 2.0; }},
+      {"quaternion NaN", kNF, [](imu_t& m) { m.orientation[1] = NAN; }},
+      {"specific force 500", kOR, [](imu_t& m) { m.specific_force[1] = 500.0; }},
+      {"orientation covariance -1", kOR, [](imu_t& m) { m.orientation_covariance[0] = -1.0; }},
+  };
+}
+
+template <>
+inline std::vector<BadValue<heading_t>> bad_values() {
+  return {
+      {"heading NaN", kNF, [](heading_t& m) { m.heading = NAN; }},
+      {"heading 4 rad", kOR, [](heading_t& m) { m.heading = 4.0; }},
+      {"heading -pi", kOR, [](heading_t& m) { m.heading = -kTestPi; }},
+      {"variance 11", kOR, [](heading_t& m) { m.variance = 11.0; }},
+      {"unknown reference", kOR, [](heading_t& m) { m.reference = 5; }},
+  };
+}
+
+template <>
+inline std::vector<BadValue<pressure_t>> bad_values() {
+  return {
+      {"depth NaN", kNF, [](pressure_t& m) { m.depth = NAN; }},
+      {"pressure -1 Pa", kOR, [](pressure_t& m) { m.pressure = -1.0; }},
+      {"depth not the pressure's", kOR, [](pressure_t& m) { m.depth += 0.5; }},
+      {"density 1200", kOR, [](pressure_t& m) { m.water_density = 1200.0; }},
   };
 }
 
@@ -554,14 +652,6 @@ inline std::int64_t missing_kinds_hash<heartbeat_t>() {
   return static_cast<std::int64_t>(0x17e12207035524d5ULL);
 }
 
-template <>
-inline std::vector<BadValue<gnss_fix_t>> bad_values() {
-  return {{"latitude NaN", kNF, [](gnss_fix_t& m) { m.latitude = std::nan(""); }},
-          {"longitude inf", kNF, [](gnss_fix_t& m) { m.longitude = kHuge * kHuge; }},
-          {"latitude 91", kOR, [](gnss_fix_t& m) { m.latitude = 91; }},
-          {"fix type 9", kOR, [](gnss_fix_t& m) { m.fix_type = 9; }},
-          {"position std -1", kOR, [](gnss_fix_t& m) { m.position_std[0] = -1; }}};
-}
 template <>
 inline std::vector<BadValue<power_t>> bad_values() {
   return {{"voltage NaN", kNF, [](power_t& m) { m.voltage = std::nan(""); }},
@@ -761,6 +851,9 @@ inline std::vector<TypeInputs> all_type_inputs() {
           type_inputs<heartbeat_t>(),
           type_inputs<vehicle_status_t>(),
           type_inputs<gnss_fix_t>(),
+          type_inputs<imu_t>(),
+          type_inputs<heading_t>(),
+          type_inputs<pressure_t>(),
           type_inputs<power_t>(),
           type_inputs<leak_t>()};
 }

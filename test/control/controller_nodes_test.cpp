@@ -29,6 +29,7 @@ const std::string kOtter = std::string(TILLER_SOURCE_DIR) + "/config/control/ott
 
 odometry_t odom(TimeUs t, double n = 0, double e = 0, double psi = 0, double u = 0) {
   odometry_t o{};
+  o.valid = odometry_t::VALID_ALL;
   o.utime = t;
   o.position[0] = n;
   o.position[1] = e;
@@ -662,6 +663,83 @@ TEST(StationKeepNode, MalformedInputOfEachTypeIsDroppedCountedAndChangesNothing)
       ASSERT_EQ(got[i], ref[i]) << "output " << i << " on " << ref[i].first << " differs";
     }
   }
+}
+
+}  // namespace
+}  // namespace tiller::control
+
+namespace tiller::control {
+namespace {
+
+// An ROV's estimate without a position source (tiller-nav, gnss.enabled false): attitude and
+// depth valid, position and velocity not.
+constexpr std::int32_t kRovValid = int{odometry_t::VALID_ATTITUDE} | int{odometry_t::VALID_DEPTH};
+
+TEST(StationKeepNode, OdometryWithoutAValidPositionRefusesTheHoldWithAMessage) {
+  auto p = load_station_keep_node_params(config::Value::load_file(kOtter));
+  StationKeepNode node(p);
+  LockstepExecutor ex(0);
+  ex.add(node);
+  Bus b;
+  watch(ex, b);
+  heartbeat_t hb{};
+  ex.observe([&](const std::string& ch, const std::uint8_t* d, int n, TimeUs) {
+    if (ch == node.heartbeat_channel()) hb.decode(d, 0, n);
+  });
+  station_target_t st{};
+  st.active = true;
+  st.position[0] = 1.0;
+  arbitration_t arb{};
+  arb.active_source = wrench_t::SOURCE_STATION_KEEP;
+  arb.reason = "test";
+  for (TimeUs t = 0; t < 3'000'000; t += 50'000) {
+    st.utime = arb.utime = t;
+    ex.inject(channels::kStationTarget, st, t);
+    ex.inject(channels::kArbitration, arb, t);
+    odometry_t o = odom(t, 0, 0, 0.3);
+    if (t >= 1'000'000) o.valid = kRovValid;
+    ex.inject(channels::kOdometry, o, t);
+    ex.inject(channels::kThrusterCommand,
+              gate_cmd(t, thruster_command_t::GATE_ACTIVE, wrench_t::SOURCE_STATION_KEEP), t);
+  }
+  ex.run_until(950'000);
+  EXPECT_TRUE(b.ws.valid);
+  EXPECT_GT(b.ws.tau[0], 0.0);
+  ex.run_until(2'100'000);  // the last valid odometry at 0.95 s, 0.5 s limit (neutral config)
+  EXPECT_FALSE(b.ws.valid);
+  EXPECT_EQ(b.ws.tau[0], 0.0);
+  EXPECT_GE(node.counter_value("odometry.invalid"), 21);  // from 1.0 s at 20 Hz
+  EXPECT_EQ(node.rejected(), 0);                          // well-formed: not a bad message
+  EXPECT_EQ(std::string(hb.status).rfind("position hold refused", 0), 0u) << hb.status;
+}
+
+TEST(VelocityPidNode, OdometryWithoutAValidVelocityGivesNeutral) {
+  auto p = load_velocity_pid_node_params(config::Value::load_file(kOtter));
+  VelocityPidNode node(p);
+  LockstepExecutor ex(0);
+  ex.add(node);
+  Bus b;
+  watch(ex, b);
+  ex.inject(channels::kMode, mode(controller_mode_t::MANUAL_CLOSED_LOOP), 10'000);
+  manual_velocity_cmd_t m{};
+  m.velocity[0] = 1.0;
+  m.yaw_mode = manual_velocity_cmd_t::YAW_RATE;
+  m.valid = true;
+  for (TimeUs t = 10'000; t < 2'000'000; t += 50'000) {
+    m.utime = t;
+    ex.inject(channels::kManualVelocity, m, t);
+    odometry_t o = odom(t, 0, 0, 0, 0.4);
+    if (t >= 1'000'000) o.valid = kRovValid;
+    ex.inject(channels::kOdometry, o, t);
+  }
+  applied(ex, wrench_t::SOURCE_VELOCITY_PID, 10'000, 2'000'000);
+  ex.run_until(900'000);
+  EXPECT_TRUE(b.wv.valid);
+  EXPECT_GT(b.wv.tau[0], 0.0);
+  ex.run_until(1'800'000);
+  EXPECT_FALSE(b.wv.valid);
+  EXPECT_EQ(b.wv.tau[0], 0.0);
+  EXPECT_GT(node.counter_value("odometry.invalid"), 10);
 }
 
 }  // namespace

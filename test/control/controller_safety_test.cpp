@@ -67,6 +67,7 @@ struct VelocityRig {
     ex.inject(channels::kMode, m, 0);
     for (TimeUs t = 0; t < end; t += kStep) {
       odometry_t o{};
+      o.valid = odometry_t::VALID_ALL;
       o.utime = t;
       ex.inject(channels::kOdometry, o, t);
       velocity_setpoint_t sp{};
@@ -170,6 +171,7 @@ TEST(IntegratorGate, StationKeeperDoesNotIntegrateWhileDisarmedAndStartsFromZero
     arb.reason = "test";
     ex.inject(channels::kArbitration, arb, t);
     odometry_t o{};
+    o.valid = odometry_t::VALID_ALL;
     o.utime = t;
     ex.inject(channels::kOdometry, o, t);
   }
@@ -244,6 +246,7 @@ TEST(Hold, StationKeeperWithoutATargetHoldsWhereTheVehicleWas) {
     arb.reason = "test";
     ex.inject(channels::kArbitration, arb, t);
     odometry_t o{};
+    o.valid = odometry_t::VALID_ALL;
     o.utime = t;
     o.position[0] = t < 1'500'000 ? 3.0 + 0.5 * to_seconds(t) : t < 3'000'000 ? 4.0 : 5.0;
     o.position[1] = 4.0;

@@ -55,6 +55,10 @@ TEST(MessageChecks, Odometry) {
     t.push_back({"velocity NaN " + std::to_string(i), [i](auto& m) { m.velocity[i] = kInf; },
                  "velocity.nan"});
   t.push_back({"yaw = pi", [](auto& m) { m.orientation[2] = kPi; }, nullptr});
+  t.push_back({"valid all", [](auto& m) { m.valid = odometry_t::VALID_ALL; }, nullptr});
+  t.push_back({"valid 31", [](auto& m) { m.valid = 31; }, nullptr});
+  t.push_back({"valid 32", [](auto& m) { m.valid = 32; }, "valid.unknown"});
+  t.push_back({"valid -1", [](auto& m) { m.valid = -1; }, "valid.unknown"});
   t.push_back({"yaw = -pi", [](auto& m) { m.orientation[2] = -kPi; }, "yaw.range"});
   t.push_back({"yaw = 4", [](auto& m) { m.orientation[2] = 4.0; }, "yaw.range"});
   t.push_back({"yaw just above -pi", [](auto& m) { m.orientation[2] = -kPi + 1e-12; }, nullptr});

@@ -29,6 +29,7 @@ FollowerNodeParams params() {
 
 odometry_t odom(TimeUs t, double n, double e, double psi) {
   odometry_t o{};
+  o.valid = odometry_t::VALID_ALL;
   o.utime = t;
   o.position[0] = n;
   o.position[1] = e;
@@ -323,6 +324,34 @@ TEST(PathFollowerNode, MalformedInputOfEachTypeIsDroppedCountedAndChangesNothing
       ASSERT_EQ(got[i], ref[i]) << "output " << i << " on " << ref[i].first << " differs";
     }
   }
+}
+
+}  // namespace
+}  // namespace tiller::guidance
+
+namespace tiller::guidance {
+namespace {
+
+// Odometry flagged without a valid position (tiller-nav past its limit, or no position
+// source) is not followed on: the setpoint goes inactive once the last valid one is stale.
+TEST(PathFollowerNode, OdometryWithoutAValidPositionIsStale) {
+  PathFollowerNode node(params());
+  LockstepExecutor ex(0);
+  ex.add(node);
+  Seen s;
+  watch(ex, s);
+  ex.inject(channels::kPath, path(7, {{0, 0}, {100, 0}}), 10'000);
+  for (TimeUs t = 20'000; t < 2'000'000; t += 50'000) {
+    odometry_t o = odom(t, 0.5 * to_seconds(t), 0, 0);
+    if (t >= 1'000'000) o.valid = int{odometry_t::VALID_ATTITUDE} | int{odometry_t::VALID_DEPTH};
+    ex.inject(channels::kOdometry, o, t);
+  }
+  ex.run_until(900'000);
+  EXPECT_TRUE(s.sp.active);
+  ex.run_until(1'900'000);
+  EXPECT_FALSE(s.sp.active);
+  EXPECT_EQ(node.counter_value("odometry.invalid"), 18);  // 1.02 .. 1.87 s
+  EXPECT_EQ(node.rejected(), 0);
 }
 
 }  // namespace

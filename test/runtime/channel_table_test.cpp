@@ -34,6 +34,8 @@
 #include "mission/mission.hpp"
 #include "mission/mission_node.hpp"
 #include "mixer/mixer_node.hpp"
+#include "nav/nav_node.hpp"
+#include "nav/nav_params.hpp"
 #include "runtime/channels.hpp"
 #include "runtime/lockstep.hpp"
 #include "sensors/gnss_node.hpp"
@@ -176,6 +178,8 @@ std::vector<Program> programs() {
   static sensors::FakeGpio gpio;
   add("tiller-leak", std::make_unique<sensors::LeakNode>(
                          sensors::load_leak_file(kRoot + "/config/sensors/leak_gpio.yaml"), gpio));
+  add("tiller-nav",
+      std::make_unique<nav::NavNode>(nav::load_nav_file(kRoot + "/config/nav/usv.yaml")));
   return out;
 }
 

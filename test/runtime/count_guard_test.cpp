@@ -264,7 +264,7 @@ std::vector<std::uint8_t> huge_thruster_command() {
 
 TEST(CountGuard, HugeCountsAndNegativeCountsAreRefused) {
   const auto o = huge_odometry();
-  ASSERT_EQ(o.size(), 120u);  // 8 hash + 104 fixed + two int32 counts: no array bytes at all
+  ASSERT_EQ(o.size(), 124u);  // 8 hash + 108 fixed + two int32 counts: no array bytes at all
   EXPECT_FALSE(counts_fit<odometry_t>(o.data(), static_cast<int>(o.size())));
   const auto t = huge_thruster_command();
   EXPECT_FALSE(counts_fit<thruster_command_t>(t.data(), static_cast<int>(t.size())));

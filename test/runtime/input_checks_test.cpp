@@ -47,6 +47,8 @@
 #include "mission/mission.hpp"
 #include "mission/mission_node.hpp"
 #include "mixer/mixer_node.hpp"
+#include "nav/nav_node.hpp"
+#include "nav/nav_params.hpp"
 #include "runtime/channels.hpp"
 #include "runtime/lockstep.hpp"
 #include "sensors/gnss_node.hpp"
@@ -242,6 +244,11 @@ std::vector<NodeCase> node_cases() {
     out.push_back({"LeakNode", "tiller-leak " + rel(f), [f](InputContext&) {
                      static sensors::FakeGpio gpio;  // outlives the nodes
                      return std::make_unique<sensors::LeakNode>(sensors::load_leak_file(f), gpio);
+                   }});
+  }
+  for (const auto& f : shipped("nav")) {
+    out.push_back({"NavNode", "tiller-nav " + rel(f), [f](InputContext&) {
+                     return std::make_unique<nav::NavNode>(nav::load_nav_file(f));
                    }});
   }
   // tiller-launch's monitor, watching every process of each shipped launch file.

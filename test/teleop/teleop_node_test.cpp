@@ -359,6 +359,8 @@ TEST(ClosedLoop, VelocityScaledAndHeadingHeld) {
   s.axes[1] = 0;
   r.feed(ms(10));
   odometry_t o{};
+  // An ROV's estimate without a position source: heading hold needs the attitude only.
+  o.valid = int{odometry_t::VALID_ATTITUDE} | int{odometry_t::VALID_DEPTH};
   o.orientation[2] = 1.0;
   r.node.deliver(channels::kOdometry, nullptr, 0, ms(15));  // malformed: counted, ignored
   auto deliver_odom = [&](double t) {
@@ -389,7 +391,11 @@ TEST(ClosedLoop, VelocityScaledAndHeadingHeld) {
   v = last_vel();
   EXPECT_EQ(v.yaw_mode, manual_velocity_cmd_t::YAW_HEADING);
   EXPECT_DOUBLE_EQ(v.heading, 1.2);
-  // NaN odometry is dropped and counted.
+  // Odometry without a valid attitude is not taken (counted); NaN odometry is dropped and counted.
+  o.valid = odometry_t::VALID_DEPTH;
+  o.orientation[2] = 2.0;
+  deliver_odom(65);
+  EXPECT_EQ(r.node.counter_value("odometry.invalid"), 1);
   o.orientation[2] = std::nan("");
   deliver_odom(70);
   EXPECT_EQ(r.node.counter_value("rejected.odometry.nan"), 1);

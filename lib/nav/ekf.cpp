@@ -1,0 +1,164 @@
+#include "nav/ekf.hpp"
+
+#include <algorithm>
+#include <cmath>
+
+#include <Eigen/LU>
+
+#include "core/angles.hpp"
+
+namespace tiller::nav {
+
+namespace {
+// cos(theta) floor in the Euler-rate kinematics: |pitch| <= ~85 deg (the ZYX singularity at 90).
+constexpr double kMinCosPitch = 0.087;
+}  // namespace
+
+Ekf::Ekf(const ProcessNoise& q) : q_(q) {}
+
+void Ekf::reset(const State& x, const Covariance& p) {
+  x_ = x;
+  x_(kPsi) = wrap_pi(x_(kPsi));
+  P_ = p;
+}
+
+Eigen::Matrix3d Ekf::rotation(double roll, double pitch, double yaw) {
+  const double cf = std::cos(roll), sf = std::sin(roll);
+  const double ct = std::cos(pitch), st = std::sin(pitch);
+  const double cp = std::cos(yaw), sp = std::sin(yaw);
+  Eigen::Matrix3d r;
+  r << cp * ct, -sp * cf + cp * st * sf, sp * sf + cp * cf * st,  //
+      sp * ct, cp * cf + sf * st * sp, -cp * sf + st * sp * cf,   //
+      -st, ct * sf, ct * cf;
+  return r;
+}
+
+void Ekf::predict(double dt, const Motion& m) {
+  if (!(dt > 0)) return;
+  const Eigen::Matrix3d r = rotation(m.roll, m.pitch, x_(kPsi));
+  const Eigen::Vector3d v = x_.segment<3>(kU);
+  const Eigen::Vector3d pdot = r * v;
+  // dR/dpsi: row 0 -> -row 1, row 1 -> row 0, row 2 -> 0; applied to v.
+  const Eigen::Vector3d dp_dpsi(-pdot(1), pdot(0), 0.0);
+  const double cf = std::cos(m.roll);
+  const double ct = std::max(std::cos(m.pitch), kMinCosPitch);
+  const double psi_dot = (m.q * std::sin(m.roll) + (m.r - x_(kBiasR)) * cf) / ct;
+
+  Covariance f = Covariance::Identity();
+  f.block<3, 3>(kN, kU) = r * dt;
+  f.block<3, 1>(kN, kPsi) = dp_dpsi * dt;
+  f(kPsi, kBiasR) = -cf / ct * dt;
+
+  x_.segment<3>(kN) += pdot * dt;
+  x_(kPsi) = wrap_pi(x_(kPsi) + psi_dot * dt);
+
+  P_ = f * P_ * f.transpose();
+  P_(kN, kN) += q_.position * dt;
+  P_(kE, kE) += q_.position * dt;
+  P_(kD, kD) += q_.position * dt;
+  P_(kU, kU) += q_.velocity_horizontal * dt;
+  P_(kV, kV) += q_.velocity_horizontal * dt;
+  P_(kW, kW) += q_.velocity_vertical * dt;
+  P_(kPsi, kPsi) += q_.heading * dt;
+  P_(kBiasR, kBiasR) += q_.gyro_bias * dt;
+}
+
+template <int M>
+UpdateResult Ekf::update(const Eigen::Matrix<double, M, 1>& y,
+                         const Eigen::Matrix<double, M, kStates>& h,
+                         const Eigen::Matrix<double, M, M>& r, double gate) {
+  const Eigen::Matrix<double, kStates, M> pht = P_ * h.transpose();
+  const Eigen::Matrix<double, M, M> s = h * pht + r;
+  const Eigen::Matrix<double, M, M> s_inv = s.inverse();
+  UpdateResult out;
+  out.nis = y.dot(s_inv * y);
+  if (!std::isfinite(out.nis) || (gate > 0 && out.nis > gate)) return out;
+  const Eigen::Matrix<double, kStates, M> k = pht * s_inv;
+  x_ += k * y;
+  x_(kPsi) = wrap_pi(x_(kPsi));
+  const Covariance ikh = Covariance::Identity() - k * h;
+  P_ = ikh * P_ * ikh.transpose() + k * r * k.transpose();  // Joseph form: stays symmetric PSD
+  out.accepted = true;
+  return out;
+}
+
+UpdateResult Ekf::update_position_ne(const Eigen::Vector2d& z, const Eigen::Matrix2d& r,
+                                     double gate) {
+  Eigen::Matrix<double, 2, kStates> h = Eigen::Matrix<double, 2, kStates>::Zero();
+  h(0, kN) = 1;
+  h(1, kE) = 1;
+  const Eigen::Vector2d y = z - x_.segment<2>(kN);
+  return update<2>(y, h, r, gate);
+}
+
+UpdateResult Ekf::update_velocity_ne(const Eigen::Vector2d& z, const Eigen::Matrix2d& r,
+                                     const Motion& m, double gate) {
+  const Eigen::Matrix3d rot = rotation(m.roll, m.pitch, x_(kPsi));
+  const Eigen::Vector3d vn = rot * x_.segment<3>(kU);
+  Eigen::Matrix<double, 2, kStates> h = Eigen::Matrix<double, 2, kStates>::Zero();
+  h.block<2, 3>(0, kU) = rot.topRows<2>();
+  h(0, kPsi) = -vn(1);
+  h(1, kPsi) = vn(0);
+  const Eigen::Vector2d y = z - vn.head<2>();
+  return update<2>(y, h, r, gate);
+}
+
+UpdateResult Ekf::update_heading(double z, double variance, double gate) {
+  Eigen::Matrix<double, 1, kStates> h = Eigen::Matrix<double, 1, kStates>::Zero();
+  h(0, kPsi) = 1;
+  const Eigen::Matrix<double, 1, 1> y(angle_diff(z, x_(kPsi)));
+  return update<1>(y, h, Eigen::Matrix<double, 1, 1>(variance), gate);
+}
+
+UpdateResult Ekf::update_depth(double z, double variance, double gate) {
+  Eigen::Matrix<double, 1, kStates> h = Eigen::Matrix<double, 1, kStates>::Zero();
+  h(0, kD) = 1;
+  const Eigen::Matrix<double, 1, 1> y(z - x_(kD));
+  return update<1>(y, h, Eigen::Matrix<double, 1, 1>(variance), gate);
+}
+
+UpdateResult Ekf::update_vertical_velocity(double z, double variance, double gate) {
+  Eigen::Matrix<double, 1, kStates> h = Eigen::Matrix<double, 1, kStates>::Zero();
+  h(0, kW) = 1;
+  const Eigen::Matrix<double, 1, 1> y(z - x_(kW));
+  return update<1>(y, h, Eigen::Matrix<double, 1, 1>(variance), gate);
+}
+
+void Ekf::set_block(int index, int n, double variance) {
+  P_.middleRows(index, n).setZero();
+  P_.middleCols(index, n).setZero();
+  for (int i = index; i < index + n; ++i) P_(i, i) = variance;
+}
+
+void Ekf::set_position_ne(double n, double e, double variance) {
+  x_(kN) = n;
+  x_(kE) = e;
+  set_block(kN, 2, variance);
+}
+
+void Ekf::set_velocity_body(double u, double v, double variance) {
+  x_(kU) = u;
+  x_(kV) = v;
+  set_block(kU, 2, variance);
+}
+
+void Ekf::set_heading(double psi, double variance) {
+  x_(kPsi) = wrap_pi(psi);
+  set_block(kPsi, 1, variance);
+}
+
+void Ekf::set_depth(double d, double variance) {
+  x_(kD) = d;
+  set_block(kD, 1, variance);
+}
+
+void Ekf::set_state(int index, double value, double variance) {
+  x_(index) = index == kPsi ? wrap_pi(value) : value;
+  set_block(index, 1, variance);
+}
+
+void Ekf::cap_variance(int index, double cap) {
+  if (P_(index, index) > cap) set_block(index, 1, cap);
+}
+
+}  // namespace tiller::nav

@@ -1,0 +1,95 @@
+// tiller-nav's filter: an extended Kalman filter of a marine vehicle's position, body velocity and
+// heading (docs/navigation.md has the models and their sources).
+//
+// State x (kStates = 8): [n e d] m, local NED about the datum; [u v w] m/s, velocity over ground
+// in body FRD; psi rad, heading in (-pi, pi]; b_r rad/s, the gyro's yaw-rate bias.
+// Roll, pitch and the body rates [p q r] are inputs (the IMU's own fused attitude and its gyro),
+// not states: a Motion sample, held between IMU samples.
+// Process model (Fossen 2021, eq. 2.18 and 2.29: eta_dot = J(eta) nu): p_dot = R_zyx(phi, theta,
+// psi) [u v w]; psi_dot = (q sin(phi) + (r - b_r) cos(phi)) / cos(theta); u, v, w and b_r random
+// walks; integrated with Euler steps, covariance P <- F P F^T + Q dt.
+// Measurements: north-east position (GNSS), north-east velocity (GNSS), heading, depth, and the
+// vertical velocity (a surface vehicle's w = 0). Each update gates on the normalised innovation
+// squared NIS = y^T S^-1 y (chi-square with as many degrees of freedom as the measurement has):
+// above the gate the measurement is refused and the state is left as it was. Joseph-form
+// covariance update. Fixed-size Eigen matrices only: predict and update never allocate.
+// Time is a dt argument; nothing here reads a clock.
+#pragma once
+
+#include <Eigen/Core>
+
+namespace tiller::nav {
+
+inline constexpr int kStates = 8;
+enum StateIndex : int { kN = 0, kE = 1, kD = 2, kU = 3, kV = 4, kW = 5, kPsi = 6, kBiasR = 7 };
+
+using State = Eigen::Matrix<double, kStates, 1>;
+using Covariance = Eigen::Matrix<double, kStates, kStates>;
+
+// Process noise, as spectral densities (variance growth per second).
+struct ProcessNoise {
+  double position = 0.01;             // m^2/s: model error on the position kinematics
+  double velocity_horizontal = 0.02;  // (m/s)^2/s: u and v random walk
+  double velocity_vertical = 0.01;    // (m/s)^2/s: w random walk
+  double heading = 1e-4;              // rad^2/s: gyro noise integrated into the heading
+  double gyro_bias = 1e-8;            // (rad/s)^2/s: yaw-rate bias random walk
+};
+
+// The IMU's part, held between its samples: roll and pitch (rad, ZYX Euler body->NED) and the
+// gyro's body rates (rad/s, FRD).
+struct Motion {
+  double roll = 0, pitch = 0;
+  double p = 0, q = 0, r = 0;
+};
+
+struct UpdateResult {
+  bool accepted = false;
+  double nis = 0;  // normalised innovation squared
+};
+
+class Ekf {
+ public:
+  explicit Ekf(const ProcessNoise& q = {});
+
+  void reset(const State& x, const Covariance& p);
+  const State& x() const { return x_; }
+  const Covariance& P() const { return P_; }
+
+  // Moves the state dt >= 0 seconds on with the motion held constant.
+  void predict(double dt, const Motion& m);
+
+  // A gate <= 0 lets every measurement in. Variances and covariances in SI units squared.
+  UpdateResult update_position_ne(const Eigen::Vector2d& z, const Eigen::Matrix2d& r, double gate);
+  UpdateResult update_velocity_ne(const Eigen::Vector2d& z, const Eigen::Matrix2d& r,
+                                  const Motion& m, double gate);
+  UpdateResult update_heading(double z, double variance, double gate);
+  UpdateResult update_depth(double z, double variance, double gate);
+  UpdateResult update_vertical_velocity(double z, double variance, double gate);
+
+  // Sets one part of the state from a measurement (its first value): the part's covariance
+  // becomes `variance` on the diagonal, its correlations with the rest 0.
+  void set_position_ne(double n, double e, double variance);
+  void set_velocity_body(double u, double v, double variance);
+  void set_heading(double psi, double variance);
+  void set_depth(double d, double variance);
+  void set_state(int index, double value, double variance);
+  // Keeps an unobserved state's variance at most `cap` (an ROV's north, east and velocity with
+  // no position source would otherwise grow without bound): a capped state is decorrelated.
+  void cap_variance(int index, double cap);
+
+  // Rotation body FRD -> NED, R_zyx(phi, theta, psi) (Fossen 2021, eq. 2.18).
+  static Eigen::Matrix3d rotation(double roll, double pitch, double yaw);
+
+ private:
+  template <int M>
+  UpdateResult update(const Eigen::Matrix<double, M, 1>& y,
+                      const Eigen::Matrix<double, M, kStates>& h,
+                      const Eigen::Matrix<double, M, M>& r, double gate);
+  void set_block(int index, int n, double variance);
+
+  ProcessNoise q_;
+  State x_ = State::Zero();
+  Covariance P_ = Covariance::Identity();
+};
+
+}  // namespace tiller::nav

@@ -1,0 +1,345 @@
+#include "nav/nav_node.hpp"
+
+#include <algorithm>
+#include <cmath>
+#include <cstdio>
+#include <string>
+
+#include "core/angles.hpp"
+#include "core/message_checks.hpp"
+#include "runtime/channels.hpp"
+
+namespace tiller::nav {
+
+namespace {
+constexpr double kPositionCap = 1e6;  // m^2: (1 km)^2, an unobserved north / east
+constexpr double kVelocityCap = 1e2;  // (m/s)^2: (10 m/s)^2
+constexpr double kSurfaceVar = 1e-6;  // m^2 and (m/s)^2: a surface vehicle's d = 0, w = 0
+
+double sq(double x) {
+  return x * x;
+}
+// The largest eigenvalue of a symmetric 2x2 [a b; b c].
+double largest_eigen(double a, double b, double c) {
+  return 0.5 * (a + c) + std::sqrt(0.25 * sq(a - c) + sq(b));
+}
+// A variance from a message (0 = unknown) or the configured 1-sigma.
+double variance_or(double v, double default_std) {
+  return v > 0 ? v : sq(default_std);
+}
+}  // namespace
+
+NavNode::NavNode(const NavParams& p)
+    : Node("nav", from_hz(p.rate_hz)),
+      p_(p),
+      ekf_(p.process),
+      gnss_fresh_(from_seconds(std::max(p.gnss.timeout_s, p.gnss.max_latency_s))),
+      imu_fresh_(from_seconds(p.imu.timeout_s)),
+      heading_fresh_(from_seconds(std::max(p.imu.timeout_s, 1.0))),
+      pressure_fresh_(from_seconds(p.depth.timeout_s)) {
+  subscribe(channels::kGnss, &NavNode::on_gnss);
+  subscribe(channels::kImu, &NavNode::on_imu);
+  subscribe(channels::kHeading, &NavNode::on_heading);
+  subscribe(channels::kPressure, &NavNode::on_pressure);
+  advertise<odometry_t>(channels::kOdometry);
+  bad_gnss_ = &counter("rejected.gnss.invalid");
+  bad_imu_ = &counter("rejected.imu.invalid");
+  bad_heading_ = &counter("rejected.heading.invalid");
+  bad_pressure_ = &counter("rejected.pressure.invalid");
+  gate_gnss_ = &counter("rejected.gnss.gate");
+  gate_gnss_velocity_ = &counter("rejected.gnss_velocity.gate");
+  gate_heading_ = &counter("rejected.heading.gate");
+  gate_depth_ = &counter("rejected.depth.gate");
+  fixes_used_ = &counter("gnss.fixes_used");
+  no_fix_ = &counter("gnss.no_fix");
+  resets_ = &counter("resets");
+  too_late_ = &counter("gnss.too_late");
+  dr_entered_ = &counter("dead_reckoning.entered");
+  invalid_out_ = &counter("odometry.position_invalid");
+
+  State x = State::Zero();
+  Covariance c = Covariance::Zero();
+  c(kN, kN) = c(kE, kE) = kPositionCap;
+  c(kD, kD) = p.depth_source == DepthSource::kSurface ? kSurfaceVar : kPositionCap;
+  c(kU, kU) = c(kV, kV) = c(kW, kW) = sq(p.initial_velocity_std_mps);
+  if (p.depth_source == DepthSource::kSurface) c(kW, kW) = kSurfaceVar;
+  c(kPsi, kPsi) = sq(kPi);
+  c(kBiasR, kBiasR) = sq(p.initial_gyro_bias_std);
+  ekf_.reset(x, c);
+  attitude_var_[0] = attitude_var_[1] = sq(p.imu.default_attitude_std);
+  for (double& v : rate_var_) v = sq(p.imu.default_rate_std);
+  if (p.fixed_datum) {
+    datum_.Reset(p.datum_latitude_deg, p.datum_longitude_deg, p.datum_altitude_m);
+    have_datum_ = true;
+  }
+  odom_.n_pose_cov = 36;
+  odom_.pose_covariance.assign(36, 0.0);
+  odom_.n_velocity_cov = 36;
+  odom_.velocity_covariance.assign(36, 0.0);
+  set_health(heartbeat_t::STATE_DEGRADED, "waiting for sensors");
+}
+
+void NavNode::advance(TimeUs t) {
+  if (!started_) {
+    started_ = true;
+    t_ = t;
+    return;
+  }
+  if (t <= t_) return;
+  ekf_.predict(to_seconds(t - t_), motion_);
+  t_ = t;
+}
+
+double NavNode::align(TimeUs utime, TimeUs now) {
+  const TimeUs tm = std::min(utime, now);
+  advance(tm);
+  return std::max(0.0, to_seconds(t_ - tm));
+}
+
+void NavNode::on_gnss(const gnss_fix_t& m, TimeUs now) {
+  if (!on_time(gnss_fresh_, m.utime, now, "gnss")) return;
+  if (checks::check(m) != nullptr) {
+    reject(*bad_gnss_);
+    return;
+  }
+  gnss_fresh_.mark(now, m.utime, clock_offset());
+  if (!p_.gnss.enabled) return;
+  if (m.fix_type < p_.gnss.min_fix || m.fix_type == gnss_fix_t::FIX_DEAD_RECKONING) {
+    ++*no_fix_;
+    return;
+  }
+  if (started_ && to_seconds(t_ - std::min(m.utime, now)) > p_.gnss.max_latency_s) {
+    ++*too_late_;
+    return;
+  }
+  const double lag = align(m.utime, now);
+  const bool has_altitude = m.fix_type >= gnss_fix_t::FIX_3D;
+  if (!have_datum_) {
+    datum_.Reset(m.latitude, m.longitude, has_altitude ? m.altitude : 0.0);
+    have_datum_ = true;
+  }
+  double east = 0, north = 0, up = 0;
+  datum_.Forward(m.latitude, m.longitude, has_altitude ? m.altitude : datum_.HeightOrigin(), east,
+                 north, up);
+  const Motion& mo = motion_;
+  const State& x = ekf_.x();
+  // The fix is `lag` s older than the filter: move it on with the estimated velocity.
+  const Eigen::Vector3d v_ned = Ekf::rotation(mo.roll, mo.pitch, x(kPsi)) * x.segment<3>(kU);
+  const Eigen::Vector2d z(north + v_ned(0) * lag, east + v_ned(1) * lag);
+  auto std_of = [&](double s) {
+    return s > 0 ? std::max(s, p_.gnss.min_std_m) : p_.gnss.default_std_m;
+  };
+  const double sn = std_of(m.position_std[0]), se = std_of(m.position_std[1]);
+  if (!position_init_) {
+    ekf_.set_position_ne(z(0), z(1), std::max(sq(sn), sq(se)));
+    position_init_ = true;
+    last_fix_ = now;
+    ++*fixes_used_;
+  } else {
+    const UpdateResult r =
+        ekf_.update_position_ne(z, Eigen::Vector2d(sq(sn), sq(se)).asDiagonal(), p_.gnss.gate_chi2);
+    if (r.accepted) {
+      gated_in_a_row_ = 0;
+      last_fix_ = now;
+      ++*fixes_used_;
+    } else {
+      reject(*gate_gnss_);
+      if (++gated_in_a_row_ >= p_.gnss.reset_after) {
+        ekf_.set_position_ne(z(0), z(1), std::max(sq(sn), sq(se)));
+        gated_in_a_row_ = 0;
+        last_fix_ = now;
+        ++*resets_;
+      }
+      return;
+    }
+  }
+  if (!p_.gnss.use_velocity || !m.velocity_valid || !heading_init_) return;
+  const Eigen::Vector2d zv(m.speed * std::cos(m.course), m.speed * std::sin(m.course));
+  const double vv = sq(p_.gnss.velocity_std_mps);
+  const UpdateResult r =
+      ekf_.update_velocity_ne(zv, Eigen::Vector2d(vv, vv).asDiagonal(), mo, p_.gnss.gate_chi2);
+  if (!r.accepted) reject(*gate_gnss_velocity_);
+}
+
+void NavNode::on_imu(const imu_t& m, TimeUs now) {
+  if (!on_time(imu_fresh_, m.utime, now, "imu")) return;
+  if (checks::check(m) != nullptr) {
+    reject(*bad_imu_);
+    return;
+  }
+  align(m.utime, now);  // the old rates up to this sample's time, then the new ones
+  motion_.p = m.angular_rate[0];
+  motion_.q = m.angular_rate[1];
+  motion_.r = m.angular_rate[2];
+  if (m.orientation_valid) {
+    const double w = m.orientation[0], qx = m.orientation[1], qy = m.orientation[2],
+                 qz = m.orientation[3];
+    motion_.roll = wrap_pi(std::atan2(2 * (w * qx + qy * qz), 1 - 2 * (qx * qx + qy * qy)));
+    motion_.pitch = std::asin(std::clamp(2 * (w * qy - qz * qx), -1.0, 1.0));
+  } else {
+    // Tilt from gravity (FRD, level at rest f = [0 0 -g]): f = -g [-sin(theta),
+    // sin(phi) cos(theta), cos(phi) cos(theta)].
+    const double fx = m.specific_force[0], fy = m.specific_force[1], fz = m.specific_force[2];
+    if (std::hypot(fx, fy, fz) > 1.0) {
+      motion_.roll = wrap_pi(std::atan2(-fy, -fz));
+      motion_.pitch = std::atan2(fx, std::hypot(fy, fz));
+    }
+  }
+  attitude_var_[0] = variance_or(m.orientation_covariance[0], p_.imu.default_attitude_std);
+  attitude_var_[1] = variance_or(m.orientation_covariance[4], p_.imu.default_attitude_std);
+  for (int i = 0; i < 3; ++i)
+    rate_var_[i] = variance_or(m.angular_rate_covariance[4 * i], p_.imu.default_rate_std);
+  imu_fresh_.mark(now, m.utime, clock_offset());
+  last_imu_ = now;
+  have_imu_ = true;
+}
+
+void NavNode::on_heading(const heading_t& m, TimeUs now) {
+  if (!on_time(heading_fresh_, m.utime, now, "heading")) return;
+  if (checks::check(m) != nullptr) {
+    reject(*bad_heading_);
+    return;
+  }
+  heading_fresh_.mark(now, m.utime, clock_offset());
+  const double lag = align(m.utime, now);
+  const double rate = motion_.r - ekf_.x()(kBiasR);
+  const double declination =
+      m.reference == heading_t::REFERENCE_MAGNETIC ? p_.heading.declination : 0.0;
+  const double z = wrap_pi(m.heading + declination + rate * lag);
+  const double var = variance_or(m.variance, p_.heading.default_std);
+  if (!heading_init_) {
+    ekf_.set_heading(z, var);
+    heading_init_ = true;
+    return;
+  }
+  if (ekf_.update_heading(z, var, p_.heading.gate_chi2).accepted) {
+    heading_gated_in_a_row_ = 0;
+    return;
+  }
+  reject(*gate_heading_);
+  if (++heading_gated_in_a_row_ >= p_.heading.reset_after) {
+    ekf_.set_heading(z, var);
+    heading_gated_in_a_row_ = 0;
+    ++*resets_;
+  }
+}
+
+void NavNode::on_pressure(const pressure_t& m, TimeUs now) {
+  if (!on_time(pressure_fresh_, m.utime, now, "pressure")) return;
+  if (checks::check(m) != nullptr) {
+    reject(*bad_pressure_);
+    return;
+  }
+  pressure_fresh_.mark(now, m.utime, clock_offset());
+  if (p_.depth_source != DepthSource::kPressure) return;
+  align(m.utime, now);
+  const double var = variance_or(m.depth_variance, p_.depth.default_std_m);
+  last_pressure_ = now;
+  have_pressure_ = true;
+  if (!depth_init_) {
+    ekf_.set_depth(m.depth, var);
+    depth_init_ = true;
+    return;
+  }
+  if (!ekf_.update_depth(m.depth, var, p_.depth.gate_chi2).accepted) reject(*gate_depth_);
+}
+
+std::int32_t NavNode::validity(TimeUs now) const {
+  const Covariance& c = ekf_.P();
+  const auto& l = p_.limits;
+  std::int32_t v = 0;
+  if (position_init_) {
+    if (largest_eigen(c(kN, kN), c(kN, kE), c(kE, kE)) <= sq(l.position_std_m))
+      v |= odometry_t::VALID_POSITION;
+    if (now - last_fix_ > from_seconds(p_.gnss.timeout_s)) v |= odometry_t::DEAD_RECKONING;
+    const double vmax = std::max({c(kU, kU), c(kV, kV), c(kW, kW)});
+    if (vmax <= sq(l.velocity_std_mps)) v |= odometry_t::VALID_VELOCITY;
+  }
+  if (have_imu_ && now - last_imu_ <= from_seconds(p_.imu.timeout_s) && heading_init_ &&
+      c(kPsi, kPsi) <= sq(l.heading_std))
+    v |= odometry_t::VALID_ATTITUDE;
+  if (p_.depth_source == DepthSource::kSurface ||
+      (depth_init_ && now - last_pressure_ <= from_seconds(p_.depth.timeout_s) &&
+       c(kD, kD) <= sq(l.depth_std_m)))
+    v |= odometry_t::VALID_DEPTH;
+  return v;
+}
+
+void NavNode::fill(TimeUs now) {
+  const State& x = ekf_.x();
+  const Covariance& c = ekf_.P();
+  odom_.utime = now;
+  for (int i = 0; i < 3; ++i) odom_.position[i] = x(kN + i);
+  odom_.orientation[0] = motion_.roll;
+  odom_.orientation[1] = motion_.pitch;
+  odom_.orientation[2] = wrap_pi(x(kPsi));
+  for (int i = 0; i < 3; ++i) odom_.velocity[i] = x(kU + i);
+  odom_.velocity[3] = motion_.p;
+  odom_.velocity[4] = motion_.q;
+  odom_.velocity[5] = motion_.r - x(kBiasR);
+  // Pose [n e d roll pitch yaw] <- states [n e d - - psi]; roll and pitch from the IMU.
+  constexpr int pose[6] = {kN, kE, kD, -1, -1, kPsi};
+  double* pc = odom_.pose_covariance.data();
+  for (int i = 0; i < 6; ++i)
+    for (int j = 0; j < 6; ++j)
+      pc[6 * i + j] = (pose[i] >= 0 && pose[j] >= 0) ? c(pose[i], pose[j]) : 0.0;
+  pc[6 * 3 + 3] = attitude_var_[0];
+  pc[6 * 4 + 4] = attitude_var_[1];
+  double* vc = odom_.velocity_covariance.data();
+  for (int i = 0; i < 6; ++i)
+    for (int j = 0; j < 6; ++j) vc[6 * i + j] = (i < 3 && j < 3) ? c(kU + i, kU + j) : 0.0;
+  vc[6 * 3 + 3] = rate_var_[0];
+  vc[6 * 4 + 4] = rate_var_[1];
+  vc[6 * 5 + 5] = rate_var_[2] + c(kBiasR, kBiasR);
+}
+
+void NavNode::report(TimeUs, std::int32_t valid) {
+  if (valid == reported_valid_) return;
+  const bool dr = valid & odometry_t::DEAD_RECKONING;
+  if (dr && !(reported_valid_ >= 0 && (reported_valid_ & odometry_t::DEAD_RECKONING)))
+    ++*dr_entered_;
+  reported_valid_ = valid;
+  std::string missing;
+  auto need = [&](std::int32_t bit, const char* what) {
+    if (valid & bit) return;
+    missing += missing.empty() ? "" : ", ";
+    missing += what;
+  };
+  if (p_.gnss.enabled) need(odometry_t::VALID_POSITION, "position");
+  if (p_.gnss.enabled) need(odometry_t::VALID_VELOCITY, "velocity");
+  need(odometry_t::VALID_ATTITUDE, "attitude");
+  need(odometry_t::VALID_DEPTH, "depth");
+  std::string status;
+  if (!p_.gnss.enabled) status = "no position source (gnss.enabled false): position unavailable; ";
+  if (dr) {
+    char b[96];
+    std::snprintf(b, sizeof b, "dead reckoning: no GNSS fix used for over %.1f s; ",
+                  p_.gnss.timeout_s);
+    status += b;
+  }
+  if (missing.empty()) {
+    status += "valid";
+    set_health(dr ? heartbeat_t::STATE_DEGRADED : heartbeat_t::STATE_OK, status);
+  } else {
+    status += "invalid: " + missing;
+    set_health(heartbeat_t::STATE_DEGRADED, status);
+  }
+}
+
+void NavNode::on_tick(TimeUs now) {
+  advance(now);
+  if (p_.depth_source == DepthSource::kSurface) {
+    ekf_.set_state(kD, 0.0, kSurfaceVar);
+    ekf_.set_state(kW, 0.0, kSurfaceVar);
+  }
+  for (int i : {kN, kE, kD}) ekf_.cap_variance(i, kPositionCap);
+  for (int i : {kU, kV, kW}) ekf_.cap_variance(i, kVelocityCap);
+  const std::int32_t valid = validity(now);
+  if (!(valid & odometry_t::VALID_POSITION)) ++*invalid_out_;
+  odom_.valid = valid;
+  fill(now);
+  publish(channels::kOdometry, odom_);
+  report(now, valid);
+}
+
+}  // namespace tiller::nav

@@ -1,0 +1,90 @@
+// tiller-nav's logic, the estimator: TILLER_GNSS, TILLER_IMU, TILLER_HEADING and TILLER_PRESSURE
+// in, TILLER_ODOMETRY (odometry_t, local NED about the datum, body FRD velocity, covariances,
+// validity bits) out at rate_hz. docs/navigation.md explains the filter (nav/ekf.hpp).
+//
+// GNSS fixes are converted to local NED about the datum (the first fix used, or a configured
+// one) with GeographicLib's LocalCartesian; a fix older than the filter's time is moved on to it
+// with the estimated velocity (at most gnss.max_latency_s). Roll, pitch and body rates come from
+// the IMU (its fused quaternion, else the accelerometer's tilt); heading from TILLER_HEADING
+// (a magnetic one plus heading.declination_deg); depth from TILLER_PRESSURE, or 0 for a surface
+// vehicle. The first measurement of each part sets it; later ones pass the innovation gate or
+// are refused and counted (rejected.<input>.gate). `gnss.reset_after` refused fixes in a row
+// reset the position to the fix (gnss.resets).
+// Validity (odometry_t.valid): position while a fix was used and its largest 1-sigma is within
+// limits.position_std_m; DEAD_RECKONING when no fix was used for gnss.timeout_s (the covariance
+// grows); velocity within limits.velocity_std_mps; attitude while the IMU is fresh and the heading
+// within limits.heading_std_deg; depth while a pressure sample is fresh (or a surface vehicle).
+// Bad input (core/message_checks.hpp) is dropped and counted before it changes anything
+// (rejected.<input>.invalid); stale or future by its utime: rejected.<input>.stale / .future.
+// Time comes only from the executor: the filter runs on the times it is told.
+#pragma once
+
+#include <cstdint>
+#include <string>
+
+#include <GeographicLib/LocalCartesian.hpp>
+#include <tiller/gnss_fix_t.hpp>
+#include <tiller/heading_t.hpp>
+#include <tiller/imu_t.hpp>
+#include <tiller/odometry_t.hpp>
+#include <tiller/pressure_t.hpp>
+
+#include "core/time.hpp"
+#include "nav/ekf.hpp"
+#include "nav/nav_params.hpp"
+#include "runtime/node.hpp"
+
+namespace tiller::nav {
+
+class NavNode : public Node {
+ public:
+  explicit NavNode(const NavParams& p);
+
+  void on_gnss(const gnss_fix_t& m, TimeUs now);
+  void on_imu(const imu_t& m, TimeUs now);
+  void on_heading(const heading_t& m, TimeUs now);
+  void on_pressure(const pressure_t& m, TimeUs now);
+
+  const Ekf& filter() const { return ekf_; }
+  const odometry_t& last_odometry() const { return odom_; }
+  bool has_datum() const { return have_datum_; }
+
+ protected:
+  void on_tick(TimeUs now) override;
+
+ private:
+  // Predicts the filter on to time t (no step back: an older t leaves it where it is).
+  void advance(TimeUs t);
+  // A measurement at its own time `utime` received at `now`: the filter moves on to it and the
+  // result is its lag behind the filter's time (s, >= 0).
+  double align(TimeUs utime, TimeUs now);
+  std::int32_t validity(TimeUs now) const;
+  void fill(TimeUs now);
+  void report(TimeUs now, std::int32_t valid);
+
+  NavParams p_;
+  Ekf ekf_;
+  Motion motion_;
+  double attitude_var_[2] = {0, 0};  // roll, pitch rad^2 (from the IMU)
+  double rate_var_[3] = {0, 0, 0};   // p q r (rad/s)^2
+  GeographicLib::LocalCartesian datum_;
+  bool have_datum_ = false;
+  TimeUs t_ = 0;  // the filter's time
+  bool started_ = false;
+  bool position_init_ = false, heading_init_ = false, depth_init_ = false;
+  TimeUs last_fix_ = 0;       // receive time of the last fix used
+  TimeUs last_imu_ = 0;       // ... of the last IMU sample
+  TimeUs last_pressure_ = 0;  // ... of the last pressure sample
+  bool have_imu_ = false, have_pressure_ = false;
+  bool dead_reckoning_ = false;
+  int gated_in_a_row_ = 0, heading_gated_in_a_row_ = 0;
+  Freshness gnss_fresh_, imu_fresh_, heading_fresh_, pressure_fresh_;
+  odometry_t odom_{};
+  std::int32_t reported_valid_ = -1;
+  bool reported_dr_ = false;
+  std::int64_t *bad_gnss_, *bad_imu_, *bad_heading_, *bad_pressure_;
+  std::int64_t *gate_gnss_, *gate_gnss_velocity_, *gate_heading_, *gate_depth_;
+  std::int64_t *fixes_used_, *no_fix_, *resets_, *too_late_, *dr_entered_, *invalid_out_;
+};
+
+}  // namespace tiller::nav

@@ -1,0 +1,67 @@
+// tiller-nav's settings (config/nav/*.yaml) and their strict loader. Units: SI, angles in
+// radians (config keys ending in _deg are read as degrees); docs/navigation.md explains each.
+#pragma once
+
+#include <string>
+
+#include "nav/ekf.hpp"
+
+namespace tiller::config {
+class Value;
+}
+
+namespace tiller::nav {
+
+enum class DepthSource { kSurface, kPressure };
+
+struct NavParams {
+  double rate_hz = 50;  // odometry rate (the node's tick)
+  DepthSource depth_source = DepthSource::kSurface;
+  // Datum of local NED: the first fix used, or a fixed one (WGS84 deg, m above the ellipsoid).
+  bool fixed_datum = false;
+  double datum_latitude_deg = 0, datum_longitude_deg = 0, datum_altitude_m = 0;
+
+  struct Gnss {
+    bool enabled = true;         // false: no position source (position never valid)
+    int min_fix = 1;             // gnss_fix_t::FIX_2D or FIX_3D: the least fix type used
+    double default_std_m = 2.5;  // 1-sigma per horizontal axis when a fix says none
+    double min_std_m = 0.3;      // floor on a fix's own sigma
+    bool use_velocity = true;    // speed and course over ground as a velocity measurement
+    double velocity_std_mps = 0.1;
+    double gate_chi2 = 13.8;     // NIS gate, 2 degrees of freedom (13.8: 1 in 1000)
+    int reset_after = 25;        // consecutive gated fixes, then the position is reset
+    double timeout_s = 1.0;      // no fix used for this long: dead reckoning
+    double max_latency_s = 0.5;  // a fix older than the filter's time by more is refused
+  } gnss;
+  struct Heading {
+    double declination = 0;      // rad, added to a magnetic heading (east positive)
+    double default_std = 0.035;  // rad, when the message says none
+    double gate_chi2 = 10.8;     // 1 degree of freedom, 1 in 1000
+    int reset_after = 25;        // consecutive gated headings, then the heading is reset
+  } heading;
+  struct Imu {
+    double timeout_s = 0.5;                // attitude invalid past this without an IMU sample
+    double default_attitude_std = 0.0175;  // rad, roll and pitch, when the IMU says none
+    double default_rate_std = 0.01;        // rad/s, when the IMU says none
+  } imu;
+  struct Depth {
+    double default_std_m = 0.05;  // when the pressure message says none
+    double gate_chi2 = 10.8;
+    double timeout_s = 1.0;  // depth invalid past this without a pressure sample
+  } depth;
+  ProcessNoise process;
+  double initial_velocity_std_mps = 2.0;
+  double initial_gyro_bias_std = 0.02;  // rad/s
+  struct Limits {                       // past these 1-sigma values the part is flagged invalid
+    double position_std_m = 10;
+    double velocity_std_mps = 0.5;
+    double heading_std = 0.175;  // rad
+    double depth_std_m = 0.5;
+  } limits;
+};
+
+// Strict loader: every error names the file, the key and what was expected.
+NavParams load_nav_params(const config::Value& root);
+NavParams load_nav_file(const std::string& path);
+
+}  // namespace tiller::nav

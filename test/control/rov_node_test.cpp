@@ -1,0 +1,102 @@
+// tiller-rov-control's node and odometry_t.valid: an estimate without a valid depth (a pressure
+// sensor lost) is not taken, so depth hold's wrench goes invalid (neutral through the mixer's
+// gate) within the odometry freshness limit, counted in odometry.invalid, not as a bad message;
+// position hold is refused while the estimate has no valid position (no GNSS, no DVL).
+#include <gtest/gtest.h>
+
+#include <tiller/arbitration_t.hpp>
+#include <tiller/controller_mode_t.hpp>
+#include <tiller/manual_demand_t.hpp>
+#include <tiller/odometry_t.hpp>
+#include <tiller/thruster_command_t.hpp>
+#include <tiller/wrench_t.hpp>
+
+#include <cstdint>
+#include <string>
+
+#include "control/rov_node.hpp"
+#include "runtime/channels.hpp"
+#include "runtime/lockstep.hpp"
+
+namespace tiller::control {
+namespace {
+
+const std::string kRov6 = std::string(TILLER_SOURCE_DIR) + "/config/control/seed001_rov6.yaml";
+
+struct Rig {
+  explicit Rig(const RovControlParams& p = load_rov_control_file(kRov6)) : node(p), ex(0) {
+    ex.add(node);
+    ex.observe([this](const std::string& ch, const std::uint8_t* d, int n, TimeUs) {
+      if (ch == channels::kWrenchRov) wrench.decode(d, 0, n);
+      if (ch == channels::kArbitration) arb.decode(d, 0, n);
+    });
+  }
+  // Pilot, gate and odometry at 20 Hz from t0 to t1; the vehicle at 2 m depth, 0.5 m above
+  // the depth held once the odometry loses `valid` bits from `t_lost`.
+  void feed(TimeUs t0, TimeUs t1, std::int32_t valid_before, std::int32_t valid_after,
+            TimeUs t_lost) {
+    for (TimeUs t = t0; t < t1; t += 50'000) {
+      manual_demand_t m{};
+      m.utime = t;
+      m.valid = true;
+      ex.inject(channels::kManualDemand, m, t);
+      thruster_command_t c{};
+      c.utime = t;
+      c.armed = true;
+      c.gate = thruster_command_t::GATE_ACTIVE;
+      c.source = wrench_t::SOURCE_ROV_CONTROL;
+      c.arm_allowed = true;
+      ex.inject(channels::kThrusterCommand, c, t);
+      odometry_t o{};
+      o.utime = t;
+      o.valid = t < t_lost ? valid_before : valid_after;
+      o.position[2] = t < 500'000 ? 2.0 : 1.5;
+      ex.inject(channels::kOdometry, o, t);
+    }
+  }
+  void request(std::int8_t mode, TimeUs t) {
+    controller_mode_t m{};
+    m.utime = t;
+    m.mode = mode;
+    m.source = "test";
+    ex.inject(channels::kMode, m, t);
+  }
+  RovControlNode node;
+  LockstepExecutor ex;
+  wrench_t wrench{};
+  arbitration_t arb{};
+};
+
+constexpr std::int32_t kAll = odometry_t::VALID_ALL;
+constexpr std::int32_t kNoDepth = int{odometry_t::VALID_ALL} & ~int{odometry_t::VALID_DEPTH};
+constexpr std::int32_t kNoPosition = int{odometry_t::VALID_ATTITUDE} | int{odometry_t::VALID_DEPTH};
+
+TEST(RovControlNode, DepthHoldGoesNeutralWhenTheDepthIsNoLongerValid) {
+  Rig r;
+  r.feed(0, 3'000'000, kAll, kNoDepth, 1'500'000);
+  r.request(controller_mode_t::DEPTH_HOLD, 100'000);
+  r.ex.run_until(1'450'000);
+  ASSERT_EQ(r.arb.active_source, wrench_t::SOURCE_ROV_CONTROL) << r.arb.reason;
+  EXPECT_TRUE(r.wrench.valid);
+  EXPECT_GT(r.wrench.tau[2], 1.0);  // 0.5 m above the held 2.0 m: pushing down (FRD +Z), N
+  r.ex.run_until(2'900'000);
+  EXPECT_FALSE(r.wrench.valid);
+  for (double tau : r.wrench.tau) EXPECT_EQ(tau, 0.0);
+  EXPECT_GE(r.node.counter_value("odometry.invalid"), 28);  // 1.5 .. 2.9 s at 20 Hz
+  EXPECT_EQ(r.node.rejected(), 0);                          // well-formed messages: not bad input
+}
+
+TEST(RovControlNode, PositionHoldRefusedWithoutAValidPosition) {
+  RovControlParams p = load_rov_control_file(kRov6);
+  p.require_position_covariance = false;  // so only odometry_t.valid can refuse it
+  Rig r(p);
+  r.feed(0, 1'000'000, kNoPosition, kNoPosition, 0);
+  r.request(controller_mode_t::POSITION_HOLD, 200'000);
+  r.ex.run_until(900'000);
+  EXPECT_EQ(r.node.counter_value("mode.refused"), 1);
+  EXPECT_NE(r.arb.mode, controller_mode_t::POSITION_HOLD);
+  EXPECT_NE(std::string(r.arb.reason).find("still in"), std::string::npos) << r.arb.reason;
+}
+
+}  // namespace
+}  // namespace tiller::control

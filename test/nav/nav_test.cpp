@@ -1,0 +1,343 @@
+// tiller-nav: the EKF's predict and update against hand-computed values, and the node on
+// synthetic sensor streams (test/nav/synthetic.hpp): convergence on a straight line and in
+// turns with a 2.5 m CEP GNSS at 5 Hz and a consumer IMU, an outlier refused and counted, a 20 s
+// GNSS outage bridged by dead reckoning, invalid past the limit, an ROV without GNSS, replay
+// identity, config errors.
+#include <gtest/gtest.h>
+
+#include <cmath>
+#include <functional>
+
+#include "core/angles.hpp"
+#include "core/config.hpp"
+#include "nav/ekf.hpp"
+#include "nav/nav_node.hpp"
+#include "nav/nav_params.hpp"
+#include "synthetic.hpp"
+
+namespace tiller::nav {
+namespace {
+
+using test::Leg;
+using test::Synthetic;
+
+// ---- the filter, by hand
+
+Ekf hand_filter(double p_diag) {
+  Ekf f(ProcessNoise{0.01, 0.02, 0.01, 1e-4, 1e-8});
+  State x = State::Zero();
+  x(kU) = 1.0;
+  f.reset(x, Covariance::Identity() * p_diag);
+  return f;
+}
+
+TEST(NavEkf, PredictMovesAlongTheHeadingAndGrowsTheCovariance) {
+  Ekf f = hand_filter(1.0);
+  Motion m;
+  m.r = 0.2;
+  f.predict(0.1, m);
+  EXPECT_NEAR(f.x()(kN), 0.1, 1e-12);  // u dt along psi = 0
+  EXPECT_NEAR(f.x()(kE), 0.0, 1e-12);
+  EXPECT_NEAR(f.x()(kPsi), 0.02, 1e-12);  // r dt
+  // F rows: n = [1 0 0 dt 0 0 0 0]; e = [0 1 0 0 dt 0 u dt 0]; psi = [.. 1 -dt]; P = I.
+  EXPECT_NEAR(f.P()(kN, kN), 1 + 0.01 + 0.01 * 0.1, 1e-12);
+  EXPECT_NEAR(f.P()(kE, kE), 1 + 0.01 + 0.01 + 0.01 * 0.1, 1e-12);
+  EXPECT_NEAR(f.P()(kE, kPsi), 0.1, 1e-12);
+  EXPECT_NEAR(f.P()(kPsi, kPsi), 1 + 0.01 + 1e-4 * 0.1, 1e-12);
+  EXPECT_NEAR(f.P()(kPsi, kBiasR), -0.1, 1e-12);
+  EXPECT_NEAR(f.P()(kU, kU), 1 + 0.02 * 0.1, 1e-12);
+  // Heading pi/2: the same step goes east.
+  Ekf g = hand_filter(1.0);
+  g.set_heading(kPi / 2, 1.0);
+  g.predict(0.5, Motion{});
+  EXPECT_NEAR(g.x()(kE), 0.5, 1e-12);
+  EXPECT_NEAR(g.x()(kN), 0.0, 1e-12);
+}
+
+TEST(NavEkf, ScalarAndPlanarUpdatesMatchTheKalmanGain) {
+  Ekf f = hand_filter(4.0);
+  // Depth: P = 4, R = 1, z = 1: K = 0.8, x = 0.8, P = 0.8, NIS = 1 / 5.
+  const UpdateResult r = f.update_depth(1.0, 1.0, 10.8);
+  EXPECT_TRUE(r.accepted);
+  EXPECT_NEAR(r.nis, 0.2, 1e-12);
+  EXPECT_NEAR(f.x()(kD), 0.8, 1e-12);
+  EXPECT_NEAR(f.P()(kD, kD), 0.8, 1e-12);
+  // North-east: P = 3 I, R = I, z = (2, -2): K = 0.75, x = (1.5, -1.5), P = 0.75, NIS = 8 / 4.
+  Ekf g = hand_filter(3.0);
+  const UpdateResult q =
+      g.update_position_ne(Eigen::Vector2d(2, -2), Eigen::Matrix2d::Identity(), 13.8);
+  EXPECT_NEAR(q.nis, 2.0, 1e-12);
+  EXPECT_NEAR(g.x()(kN), 1.5, 1e-12);
+  EXPECT_NEAR(g.x()(kE), -1.5, 1e-12);
+  EXPECT_NEAR(g.P()(kN, kN), 0.75, 1e-12);
+  EXPECT_NEAR(g.P()(kU, kU), 3.0, 1e-12);  // uncorrelated: untouched
+}
+
+TEST(NavEkf, GateRefusesAnOutlierAndLeavesTheState) {
+  Ekf f = hand_filter(4.0);
+  // z = 10, S = 5: NIS = 20 > 10.8.
+  const UpdateResult r = f.update_depth(10.0, 1.0, 10.8);
+  EXPECT_FALSE(r.accepted);
+  EXPECT_NEAR(r.nis, 20.0, 1e-12);
+  EXPECT_EQ(f.x()(kD), 0.0);
+  EXPECT_EQ(f.P()(kD, kD), 4.0);
+  EXPECT_TRUE(f.update_depth(10.0, 1.0, 0.0).accepted);  // gate 0: no gate
+}
+
+TEST(NavEkf, HeadingInnovationWrapsAcrossPi) {
+  Ekf f = hand_filter(1.0);
+  f.set_heading(3.0, 1.0);
+  // z = -3.1 is 2 pi - 6.1 = 0.1832 ahead of 3.0, not 6.1 behind: psi = 3.0 + 0.0916.
+  f.update_heading(-3.1, 1.0, 10.8);
+  EXPECT_NEAR(f.x()(kPsi), 3.0 + 0.5 * (2 * kPi - 6.1), 1e-12);
+}
+
+TEST(NavEkf, VelocityMeasurementIsTheBodyVelocityRotated) {
+  Ekf f = hand_filter(1.0);
+  f.set_heading(kPi / 2, 1e-6);
+  f.set_velocity_body(0.0, 0.0, 1.0);
+  // Heading east: (vn, ve) = (0, 2) is u = 2.
+  f.update_velocity_ne(Eigen::Vector2d(0, 2), Eigen::Matrix2d::Identity() * 1e-6, Motion{}, 0);
+  EXPECT_NEAR(f.x()(kU), 2.0, 1e-5);
+  EXPECT_NEAR(f.x()(kV), 0.0, 1e-5);
+}
+
+// ---- the node on synthetic streams
+
+struct NullBus : Bus {
+  void publish(std::string_view, const std::uint8_t*, int) override {}
+};
+
+NavParams usv_params() {
+  NavParams p = load_nav_file(std::string(TILLER_SOURCE_DIR) + "/config/nav/usv.yaml");
+  p.fixed_datum = true;  // the truth's origin, so errors compare directly
+  p.datum_latitude_deg = test::kLat0;
+  p.datum_longitude_deg = test::kLon0;
+  return p;
+}
+
+struct Stats {
+  double pos_sq = 0, head_sq = 0, max_pos = 0;
+  int n = 0;
+  double pos_rms() const { return std::sqrt(pos_sq / n); }
+  double head_rms_deg() const { return rad_to_deg(std::sqrt(head_sq / n)); }
+};
+
+// What the run feeds: return false from `gnss_on` to drop the fix at t; `at_tick` sees each
+// published odometry with the truth.
+struct Feed {
+  std::function<bool(TimeUs)> gnss_on = [](TimeUs) { return true; };
+  std::function<void(TimeUs, gnss_fix_t&)> edit_fix = [](TimeUs, gnss_fix_t&) {};
+  std::function<void(TimeUs, const odometry_t&, const test::Truth&)> at_tick =
+      [](TimeUs, const odometry_t&, const test::Truth&) {};
+  bool pressure = false;
+  bool gnss = true;
+};
+
+// IMU at 100 Hz, heading at 10 Hz, GNSS at 5 Hz, pressure at 20 Hz; errors from `from_s` on.
+Stats fly(NavNode& node, Synthetic& syn, double from_s, const Feed& f = {}) {
+  NullBus bus;
+  node.attach(&bus);
+  Stats s;
+  const TimeUs end = from_seconds(syn.duration_s());
+  for (TimeUs t = 0; t <= end; t += 10'000) {
+    syn.advance_to(t);
+    if (t % node.tick_period() == 0) {
+      node.tick(t);
+      const odometry_t& o = node.last_odometry();
+      const test::Truth& tr = syn.truth();
+      f.at_tick(t, o, tr);
+      if (to_seconds(t) >= from_s) {
+        const double dp = std::hypot(o.position[0] - tr.n, o.position[1] - tr.e);
+        const double dh = angle_diff(o.orientation[2], tr.psi);
+        s.pos_sq += dp * dp;
+        s.head_sq += dh * dh;
+        s.max_pos = std::max(s.max_pos, dp);
+        ++s.n;
+      }
+    }
+    node.on_imu(syn.imu(t), t);
+    if (t % 100'000 == 0) node.on_heading(syn.heading(t), t);
+    if (f.pressure && t % 50'000 == 0) node.on_pressure(syn.pressure(t), t);
+    if (f.gnss && t % 200'000 == 0 && f.gnss_on(t)) {
+      gnss_fix_t m = syn.gnss(t);
+      f.edit_fix(t, m);
+      node.on_gnss(m, t);
+    }
+  }
+  return s;
+}
+
+TEST(NavNode, ConvergesOnAStraightLine) {
+  NavNode node(usv_params());
+  Synthetic syn({{180, 0.0}}, 7);
+  const Stats s = fly(node, syn, 20);
+  std::printf("straight: position RMS %.3f m (max %.3f), heading RMS %.3f deg\n", s.pos_rms(),
+              s.max_pos, s.head_rms_deg());
+  std::printf("gated: %lld fixes, %lld velocities, %lld headings of %lld fixes used\n",
+              static_cast<long long>(node.counter_value("rejected.gnss.gate")),
+              static_cast<long long>(node.counter_value("rejected.gnss_velocity.gate")),
+              static_cast<long long>(node.counter_value("rejected.heading.gate")),
+              static_cast<long long>(node.counter_value("gnss.fixes_used")));
+  EXPECT_LE(s.pos_rms(), 0.5);
+  EXPECT_LE(s.head_rms_deg(), 1.0);
+  EXPECT_EQ(node.last_odometry().valid, odometry_t::VALID_ALL);
+  EXPECT_EQ(node.rejected(), node.counter_value("rejected.gnss.gate") +
+                                 node.counter_value("rejected.gnss_velocity.gate") +
+                                 node.counter_value("rejected.heading.gate"));
+}
+
+TEST(NavNode, ConvergesInTurns) {
+  NavNode node(usv_params());
+  // 20 s straight, 60 s turning right at 0.1 rad/s, 20 s straight, 40 s left at 0.15 rad/s.
+  Synthetic syn({{20, 0.0}, {60, 0.1}, {20, 0.0}, {40, -0.15}, {20, 0.0}}, 11);
+  const Stats s = fly(node, syn, 20);
+  std::printf("turns: position RMS %.3f m (max %.3f), heading RMS %.3f deg\n", s.pos_rms(),
+              s.max_pos, s.head_rms_deg());
+  EXPECT_LE(s.pos_rms(), 0.5);
+  EXPECT_LE(s.head_rms_deg(), 1.0);
+}
+
+TEST(NavNode, RefusesAndCountsAnOutlierFix) {
+  // The same seeded run twice, the second with one fix 40 m north at 60 s: exactly one more
+  // refusal (a 1-in-1000 gate also refuses a few honest fixes in both runs).
+  NavNode ref(usv_params()), node(usv_params());
+  Synthetic sr({{90, 0.0}}, 3), syn({{90, 0.0}}, 3);
+  fly(ref, sr, 20);
+  Feed f;
+  f.edit_fix = [](TimeUs t, gnss_fix_t& m) {
+    if (t == 60'000'000) m.latitude += 40.0 / 111'000;
+  };
+  double worst_after = 0;
+  f.at_tick = [&](TimeUs t, const odometry_t& o, const test::Truth& tr) {
+    if (t > 60'000'000 && t < 65'000'000)
+      worst_after = std::max(worst_after, std::hypot(o.position[0] - tr.n, o.position[1] - tr.e));
+  };
+  fly(node, syn, 20, f);
+  EXPECT_EQ(node.counter_value("rejected.gnss.gate"), ref.counter_value("rejected.gnss.gate") + 1);
+  EXPECT_EQ(node.rejected(), ref.rejected() + 1);
+  EXPECT_LT(worst_after, 1.5);
+}
+
+TEST(NavNode, BridgesAGnssOutageByDeadReckoning) {
+  NavNode node(usv_params());
+  Synthetic syn({{40, 0.0}, {30, 0.05}, {50, 0.0}}, 5);
+  Feed f;
+  f.gnss_on = [](TimeUs t) { return t < 60'000'000 || t >= 80'000'000; };
+  double var_start = 0, var_end = 0, err_end = 0, err_recovered = 0;
+  TimeUs dr_from = -1, dr_to = -1;
+  bool valid_throughout = true;
+  f.at_tick = [&](TimeUs t, const odometry_t& o, const test::Truth& tr) {
+    const bool dr = o.valid & odometry_t::DEAD_RECKONING;
+    if (dr && dr_from < 0) dr_from = t;
+    if (!dr && dr_from >= 0 && dr_to < 0) dr_to = t;
+    if (t == 61'000'000) var_start = o.pose_covariance[0];
+    if (t == 79'980'000) {
+      var_end = o.pose_covariance[0];
+      err_end = std::hypot(o.position[0] - tr.n, o.position[1] - tr.e);
+    }
+    if (t == 90'000'000) err_recovered = std::hypot(o.position[0] - tr.n, o.position[1] - tr.e);
+    if (t > 20'000'000 && !(o.valid & odometry_t::VALID_POSITION)) valid_throughout = false;
+  };
+  fly(node, syn, 20, f);
+  std::printf(
+      "outage: DR from %.2f to %.2f s, north var %.3f -> %.3f m^2, error at end %.2f m, "
+      "10 s after %.2f m\n",
+      to_seconds(dr_from), to_seconds(dr_to), var_start, var_end, err_end, err_recovered);
+  EXPECT_GE(dr_from, 60'800'000);  // the last fix at 59.8 s, timeout 1 s
+  EXPECT_LE(dr_from, 60'900'000);
+  EXPECT_GE(dr_to, 80'000'000);
+  EXPECT_LE(dr_to, 80'020'000);  // the first fix back
+  EXPECT_GT(var_end, 10 * var_start);
+  EXPECT_LT(err_end, 5.0);
+  EXPECT_LT(err_recovered, 1.0);
+  EXPECT_TRUE(valid_throughout);  // 1-sigma stays under the 10 m limit over 20 s
+  EXPECT_EQ(node.counter_value("dead_reckoning.entered"), 1);
+}
+
+TEST(NavNode, PositionInvalidPastTheLimitThenBack) {
+  NavParams p = usv_params();
+  p.limits.position_std_m = 2.0;
+  NavNode node(p);
+  Synthetic syn({{120, 0.0}}, 9);
+  Feed f;
+  f.gnss_on = [](TimeUs t) { return t < 40'000'000 || t >= 90'000'000; };
+  TimeUs invalid_at = -1, valid_again = -1;
+  f.at_tick = [&](TimeUs t, const odometry_t& o, const test::Truth&) {
+    const bool pos = o.valid & odometry_t::VALID_POSITION;
+    if (t > 40'000'000 && !pos && invalid_at < 0) invalid_at = t;
+    if (invalid_at >= 0 && pos && valid_again < 0) valid_again = t;
+    if (t > 40'000'000 && !pos) {
+      EXPECT_GT(std::sqrt(o.pose_covariance[0]), 1.0);
+    }
+  };
+  fly(node, syn, 20, f);
+  std::printf("limit 2 m: invalid %.2f s into the outage, valid again %.2f s after it\n",
+              to_seconds(invalid_at - 40'000'000), to_seconds(valid_again - 90'000'000));
+  EXPECT_GT(invalid_at, 40'000'000);
+  EXPECT_LT(invalid_at, 90'000'000);
+  EXPECT_GE(valid_again, 90'000'000);
+  EXPECT_LT(valid_again, 91'000'000);
+}
+
+TEST(NavNode, RovWithoutGnssHasDepthAndAttitudeButNoPosition) {
+  NavNode node(load_nav_file(std::string(TILLER_SOURCE_DIR) + "/config/nav/rov.yaml"));
+  Synthetic syn({{30, 0.0}, {30, 0.1}}, 2);
+  syn.mutable_truth().d = 12.0;
+  syn.mutable_truth().u = 0.3;
+  Feed f;
+  f.pressure = true;
+  f.gnss = false;
+  double depth_err = 0, head_sq = 0;
+  int n = 0;
+  f.at_tick = [&](TimeUs t, const odometry_t& o, const test::Truth& tr) {
+    if (t < 5'000'000) return;
+    EXPECT_EQ(o.valid, int{odometry_t::VALID_ATTITUDE} | int{odometry_t::VALID_DEPTH}) << t;
+    depth_err = std::max(depth_err, std::abs(o.position[2] - tr.d));
+    head_sq += std::pow(angle_diff(o.orientation[2], tr.psi), 2);
+    ++n;
+  };
+  fly(node, syn, 5, f);
+  EXPECT_LT(depth_err, 0.05);
+  EXPECT_LT(rad_to_deg(std::sqrt(head_sq / n)), 1.0);
+  EXPECT_NE(node.counter_value("odometry.position_invalid"), 0);
+  EXPECT_EQ(node.rejected(), node.counter_value("rejected.heading.gate") +
+                                 node.counter_value("rejected.depth.gate"));
+}
+
+TEST(NavNode, FirstFixIsTheDatumAndRunsReplayIdentically) {
+  NavParams p = load_nav_file(std::string(TILLER_SOURCE_DIR) + "/config/nav/usv.yaml");
+  NavNode a(p), b(p);
+  Synthetic sa({{30, 0.05}}, 4), sb({{30, 0.05}}, 4);
+  fly(a, sa, 0);
+  fly(b, sb, 0);
+  EXPECT_TRUE(a.has_datum());
+  const odometry_t &oa = a.last_odometry(), &ob = b.last_odometry();
+  for (int i = 0; i < 3; ++i) EXPECT_EQ(oa.position[i], ob.position[i]);
+  EXPECT_EQ(oa.pose_covariance, ob.pose_covariance);
+  // About the first (noisy) fix: within a few sigma of the truth's track, not of its origin.
+  EXPECT_LT(std::hypot(oa.position[0] - sa.truth().n, oa.position[1] - sa.truth().e), 8.0);
+}
+
+TEST(NavConfig, ErrorsNameTheKeyAndWhatWasExpected) {
+  auto error_of = [](const std::string& text) {
+    try {
+      load_nav_params(config::Value::parse(text, "nav.yaml"));
+    } catch (const config::Error& e) {
+      return std::string(e.what());
+    }
+    return std::string("no error");
+  };
+  EXPECT_NE(error_of("datum: somewhere\n").find("datum: expected first_fix"), std::string::npos)
+      << error_of("datum: somewhere\n");
+  EXPECT_NE(error_of("datum: first_fix\ngnss: {gate_chi2: -1}\n").find("gnss.gate_chi2"),
+            std::string::npos);
+  EXPECT_NE(error_of("datum: first_fix\nlimits: {position_std: 3}\n").find("unknown key"),
+            std::string::npos);
+  EXPECT_NE(error_of("rate_hz: 50\n").find("datum: missing required key"), std::string::npos);
+  EXPECT_NE(error_of("datum: {latitude_deg: 91, longitude_deg: 0}\n").find("datum.latitude_deg"),
+            std::string::npos);
+}
+
+}  // namespace
+}  // namespace tiller::nav
