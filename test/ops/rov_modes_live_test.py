@@ -24,7 +24,8 @@ surface, manual, disarm. From the log it asserts:
     neutral, and stays so until the demand comes back;
   - surface: the ROV rises at surface.speed_m_s (0.25 m/s, config/control/bluerov2.yaml) within
     SURFACE_TOL.
-Prints each number. About 30 s of wall time.
+Prints each number, and the thrust change when the hat is released in depth hold (the brake,
+not a switch: not asserted). About 30 s of wall time.
 """
 import csv
 import io
@@ -42,6 +43,7 @@ bindir = os.path.join(build, "bin")
 DEPTH_MAX_M, DEPTH_RMS_M = 0.05, 0.02
 HEADING_RMS_DEG = 1.0
 STEP_MAX_N = 2.5        # N per mixer tick (20 ms) around a switch: 7 % of the T200's 36.4 N
+TICK_S = 0.02           # the mixer's rate_hz 50
 STALE_NEUTRAL_S = 0.7   # rov-control's input_timeout_s 0.5 s + its tick, the mixer's, logging
 STOP_S = 1.5            # teleop stopped this long (the launcher's liveness_s is 3 s)
 SURFACE_SPEED, SURFACE_TOL = 0.25, 0.2
@@ -136,7 +138,7 @@ def rows(channel, fields):
 
 
 arb = rows("TILLER_ARBITRATION", "mode")
-cmd = rows("TILLER_THRUSTER_COMMAND", "armed,command")
+cmd = rows("TILLER_THRUSTER_COMMAND", "utime,armed,command")
 dem = rows("TILLER_MANUAL_DEMAND", "demand,valid")
 odo = rows("TILLER_ODOMETRY", "position,orientation")
 if not (arb and cmd and dem and odo):
@@ -224,12 +226,27 @@ for i in range(1, len(changes)):
     if len(w) < 10:
         fail(f"too few armed thruster commands around the switch to mode {m} at {ts:.2f} s")
         continue
-    step = max(abs(a - b) for p, q in zip(w, w[1:]) for a, b in zip(thrust(q), thrust(p)))
+    # Per 20 ms tick of the mixer's own time (utime): a late tick on a busy machine carries two
+    # ticks' worth of the blend, which is no step.
+    step = max(abs(a - b) * TICK_S / max(TICK_S, (q["utime"] - p["utime"]) * 1e-6)
+               for p, q in zip(w, w[1:]) for a, b in zip(thrust(q), thrust(p)))
     whole = max(abs(a - b) for a, b in zip(thrust(w[-1]), thrust(w[0])))
     print(f"switch to mode {m} at {ts:.2f} s: largest thrust change {step:.2f} N per tick "
           f"(whole change {whole:.2f} N over {w[-1]['t_s'] - w[0]['t_s']:.1f} s)")
     if step > STEP_MAX_N:
         fail(f"switch to mode {m}: a thruster's thrust stepped by {step:.2f} N (over {STEP_MAX_N})")
+
+# Not a switch, printed and not asserted: the hat released in depth hold (0.4 m/s of descent
+# braked to a stop, the rate law's setpoint steps to 0).
+t0, t1 = changes[1][0], end_of(1)
+rel = next((q["t_s"] for p, q in zip(dem, dem[1:])
+            if t0 <= q["t_s"] < t1 and p["demand[2]"] != 0 and q["demand[2]"] == 0), None)
+if rel is not None:
+    w = [r for r in between(cmd, rel - 0.05, rel + 0.5) if r["armed"] == 1]
+    brake = max((abs(a - b) for p, q in zip(w, w[1:]) for a, b in zip(thrust(q), thrust(p))),
+                default=0)
+    print(f"hat released in depth hold at {rel:.2f} s: largest thrust change {brake:.1f} N "
+          "in one tick (the brake; not asserted)")
 
 # Stale stick: the longest gap in the teleop's demand is the stop.
 gaps = [(q["t_s"] - p["t_s"], p["t_s"], q["t_s"]) for p, q in zip(dem, dem[1:])]
