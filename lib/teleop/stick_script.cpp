@@ -15,6 +15,7 @@ namespace tiller {
 namespace {
 
 constexpr std::int64_t kAxisMax = 32767;
+constexpr std::int32_t kNeeds = int{odometry_t::VALID_DEPTH} | int{odometry_t::VALID_ATTITUDE};
 
 StickStep load_step(const config::Value& s, const StickScriptParams& p) {
   StickStep st;
@@ -105,6 +106,7 @@ StickScriptNode::StickScriptNode(StickScriptParams p)
     : Node("stick-script", p.period), p_(std::move(p)), odom_fresh_(p_.odometry_timeout) {
   subscribe(channels::kOdometry, &StickScriptNode::on_odometry);
   rejected_odom_ = &counter("rejected.odometry.invalid");
+  invalid_odom_ = &counter("odometry.invalid");
   js_.device = "stick-script";
   js_.connected = true;
   js_.n_axes = p_.n_axes;
@@ -118,6 +120,12 @@ void StickScriptNode::on_odometry(const odometry_t& o, TimeUs now) {
   if (!on_time(odom_fresh_, o.utime, now, "odometry")) return;
   if (checks::check(o) != nullptr) {
     reject(*rejected_odom_);
+    return;
+  }
+  // The pilot watches the depth gauge and the compass: odometry without a valid depth and
+  // attitude (odometry_t.valid) is not taken, so it goes stale and a step needing it fails.
+  if ((o.valid & kNeeds) != kNeeds) {
+    ++*invalid_odom_;
     return;
   }
   odom_fresh_.mark(now, o.utime, clock_offset());
@@ -253,16 +261,19 @@ std::string StickScriptNode::report() const {
   char line[256];
   for (const StickMeasure& m : measures_) {
     if (m.depth) {
-      std::snprintf(line, sizeof line,
-                    "%-22s depth error   RMS %.3f m   max %.3f m   (%d samples)%s\n",
-                    m.step.c_str(), m.depth_rms, m.depth_max, m.samples, m.passed ? "" : "  OVER");
+      std::snprintf(
+          line, sizeof line,
+          "%-22s depth error   RMS %.3f m   max %.3f m   (%d samples, against %.3f m)%s\n",
+          m.step.c_str(), m.depth_rms, m.depth_max, m.samples, m.depth_ref,
+          m.passed ? "" : "  OVER");
       out += line;
     }
     if (m.heading) {
-      std::snprintf(line, sizeof line,
-                    "%-22s heading error RMS %.2f deg max %.2f deg (%d samples)%s\n",
-                    m.step.c_str(), rad_to_deg(m.heading_rms), rad_to_deg(m.heading_max), m.samples,
-                    m.passed ? "" : "  OVER");
+      std::snprintf(
+          line, sizeof line,
+          "%-22s heading error RMS %.2f deg max %.2f deg (%d samples, against %.1f deg)%s\n",
+          m.step.c_str(), rad_to_deg(m.heading_rms), rad_to_deg(m.heading_max), m.samples,
+          rad_to_deg(wrap_pi(m.heading_ref)), m.passed ? "" : "  OVER");
       out += line;
     }
   }
