@@ -253,16 +253,19 @@ std::string StickScriptNode::report() const {
   char line[256];
   for (const StickMeasure& m : measures_) {
     if (m.depth) {
-      std::snprintf(line, sizeof line,
-                    "%-22s depth error   RMS %.3f m   max %.3f m   (%d samples)%s\n",
-                    m.step.c_str(), m.depth_rms, m.depth_max, m.samples, m.passed ? "" : "  OVER");
+      std::snprintf(
+          line, sizeof line,
+          "%-22s depth error   RMS %.3f m   max %.3f m   (%d samples, against %.3f m)%s\n",
+          m.step.c_str(), m.depth_rms, m.depth_max, m.samples, m.depth_ref,
+          m.passed ? "" : "  OVER");
       out += line;
     }
     if (m.heading) {
-      std::snprintf(line, sizeof line,
-                    "%-22s heading error RMS %.2f deg max %.2f deg (%d samples)%s\n",
-                    m.step.c_str(), rad_to_deg(m.heading_rms), rad_to_deg(m.heading_max), m.samples,
-                    m.passed ? "" : "  OVER");
+      std::snprintf(
+          line, sizeof line,
+          "%-22s heading error RMS %.2f deg max %.2f deg (%d samples, against %.1f deg)%s\n",
+          m.step.c_str(), rad_to_deg(m.heading_rms), rad_to_deg(m.heading_max), m.samples,
+          rad_to_deg(wrap_pi(m.heading_ref)), m.passed ? "" : "  OVER");
       out += line;
     }
   }
