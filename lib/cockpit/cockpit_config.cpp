@@ -46,6 +46,10 @@ CockpitConfig load_cockpit(const config::Value& root) {
       }
     }
   }
+  if (auto t = root.find("thruster_test")) {
+    p.thruster_test.max_command = t->number_or("max_command", 0.1, {0.0, 0.3});
+    p.thruster_test.timeout = from_seconds(t->number_or("timeout_s", 0.5, {0.15, 2.0}));
+  }
   root.check_all_used();
   return c;
 }

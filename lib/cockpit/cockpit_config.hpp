@@ -14,12 +14,17 @@
 //     gain: 1.0                # [0, 1], scales every axis
 //     axes:                    # like tiller-teleop's: gamepad axis index -> DOF
 //       - {axis: 1, dof: surge, sign: -1, deadzone: 0.1, expo: 0.3, gain: 1.0}
+//   thruster_test:             # the page's thruster test (cockpit/thruster_test.hpp)
+//     max_command: 0.1         # [0, 0.3], the largest |command| the page may ask (0: no test);
+//                              # the mixer's own thruster_test.max_command also applies
+//     timeout_s: 0.5           # a held button is repeated every 0.1 s; silent this long: ended
 #pragma once
 
 #include <array>
 #include <string>
 #include <vector>
 
+#include "cockpit/thruster_test.hpp"
 #include "core/config.hpp"
 #include "core/time.hpp"
 
@@ -39,6 +44,7 @@ struct CockpitParams {
   TimeUs gamepad_timeout = 500'000;
   double gamepad_gain = 1.0;
   std::vector<GamepadAxis> axes;
+  ThrusterTestParams thruster_test;
 };
 
 struct ServerParams {

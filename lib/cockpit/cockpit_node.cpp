@@ -5,17 +5,21 @@
 #include <algorithm>
 #include <cctype>
 #include <cmath>
+#include <cstdio>
 #include <exception>
 #include <nlohmann/json.hpp>
+#include <utility>
 
 #include <tiller/allocation_status_t.hpp>
 #include <tiller/arbitration_t.hpp>
 #include <tiller/arm_request_t.hpp>
 #include <tiller/arm_state_t.hpp>
 #include <tiller/controller_mode_t.hpp>
+#include <tiller/esc_output_t.hpp>
 #include <tiller/mission_command_t.hpp>
 #include <tiller/odometry_t.hpp>
 #include <tiller/path_progress_t.hpp>
+#include <tiller/pid_terms_t.hpp>
 #include <tiller/thruster_command_t.hpp>
 #include <tiller/vehicle_status_t.hpp>
 #include <tiller/velocity_setpoint_t.hpp>
@@ -66,6 +70,9 @@ enum : int {
   kArbitration,
   kMode,
   kVehicleStatus,
+  kEscOutput,
+  kPidVelocity,
+  kPidStation,
   kSlots
 };
 
@@ -103,7 +110,10 @@ const std::vector<std::string>& state_channels() {
                                              channels::kArmState,
                                              channels::kArbitration,
                                              channels::kMode,
-                                             channels::kVehicleStatus};
+                                             channels::kVehicleStatus,
+                                             channels::kEscOutput,
+                                             channels::kPidVelocity,
+                                             channels::kPidStation};
   return c;
 }
 
@@ -123,7 +133,8 @@ CockpitNode::CockpitNode(CockpitParams p, std::string token, MissionLoader loade
     : Node("cockpit", p.period),
       p_(std::move(p)),
       token_(std::move(token)),
-      loader_(std::move(loader)) {
+      loader_(std::move(loader)),
+      test_(p_.thruster_test) {
   const auto& ch = state_channels();
   auto add = [&](auto slot, int index, auto handler) {
     slot->channel = ch[static_cast<std::size_t>(index)];
@@ -148,6 +159,12 @@ CockpitNode::CockpitNode(CockpitParams p, std::string token, MissionLoader loade
       &CockpitNode::on_state<controller_mode_t, kMode>);
   add(std::make_unique<Slot<vehicle_status_t>>(), kVehicleStatus,
       &CockpitNode::on_state<vehicle_status_t, kVehicleStatus>);
+  add(std::make_unique<Slot<esc_output_t>>(), kEscOutput,
+      &CockpitNode::on_state<esc_output_t, kEscOutput>);
+  add(std::make_unique<Slot<pid_terms_t>>(), kPidVelocity,
+      &CockpitNode::on_state<pid_terms_t, kPidVelocity>);
+  add(std::make_unique<Slot<pid_terms_t>>(), kPidStation,
+      &CockpitNode::on_state<pid_terms_t, kPidStation>);
   for (const auto& name : p_.processes) {
     Process pr;
     pr.name = name;
@@ -163,6 +180,7 @@ CockpitNode::CockpitNode(CockpitParams p, std::string token, MissionLoader loade
   advertise<controller_mode_t>(channels::kMode);
   advertise<mission_command_t>(channels::kMissionCommand);
   advertise<path_t>(channels::kPath);
+  advertise<thruster_test_t>(channels::kThrusterTest);
   bad_heartbeat_ = &counter("rejected.heartbeat.check");
   heartbeat_unknown_ = &counter("rejected.heartbeat.unknown_process");
   accepted_ = &counter("commands.accepted");
@@ -174,6 +192,7 @@ CockpitNode::CockpitNode(CockpitParams p, std::string token, MissionLoader loade
   pilot_timeout_ = &counter("pilot.lost.timeout");
   pilot_closed_ = &counter("pilot.lost.closed");
   pilot_released_ = &counter("pilot.lost.released");
+  test_refused_ = &counter("rejected.thruster_test.refused");
   frame_.reserve(64 * 1024);
   set_health(heartbeat_t::STATE_OK, "serving the cockpit");
 }
@@ -277,6 +296,7 @@ void CockpitNode::write_state(TimeUs now, bool full) {
 
 void CockpitNode::on_tick(TimeUs now) {
   if (pilot_ >= 0 && now - pilot_rx_ > p_.gamepad_timeout) pilot_lost(now, *pilot_timeout_);
+  if (test_.tick(now)) publish(channels::kThrusterTest, test_.message());
   if (path_active_ && now - path_sent_ >= p_.path_repeat) {
     path_.utime = now;
     publish(channels::kPath, path_);
@@ -335,6 +355,13 @@ void CockpitNode::client_opened(int client, TimeUs now) {
   }
   w.end_array();
   w.end_object();
+  w.key("thruster_test");
+  w.begin_object();
+  w.key("max_command");
+  w.number(p_.thruster_test.max_command);
+  w.key("period_s");
+  w.number(0.1);
+  w.end_object();
   w.key("constants");
   constants_json(w);
   w.end_object();
@@ -345,10 +372,12 @@ void CockpitNode::client_opened(int client, TimeUs now) {
 
 void CockpitNode::client_closed(int client, TimeUs now) {
   if (client == pilot_) pilot_lost(now, *pilot_closed_);
+  if (test_.client_closed(client, now)) publish(channels::kThrusterTest, test_.message());
 }
 
 void CockpitNode::shutdown(TimeUs now) {
   if (pilot_ >= 0) pilot_lost(now, *pilot_closed_);
+  if (test_.client_closed(test_.client(), now)) publish(channels::kThrusterTest, test_.message());
 }
 
 void CockpitNode::reply(int client, std::string_view command, bool ok, const std::string& detail) {
@@ -424,6 +453,10 @@ void CockpitNode::command(int client, std::string_view text, TimeUs now) {
     on_gamepad(client, &j, now);
     return;
   }
+  if (cmd == "thruster_test") {
+    on_thruster_test(client, &j, now);
+    return;
+  }
   if (cmd == "arm") {
     const json* arm = member(j, "arm");
     if (!arm || !arm->is_boolean()) {
@@ -448,16 +481,29 @@ void CockpitNode::command(int client, std::string_view text, TimeUs now) {
   if (cmd == "mode") {
     const json* mode = member(j, "mode");
     const std::string m = mode && mode->is_string() ? mode->get<std::string>() : "";
+    // Every controller_mode_t constant (the ROV modes go to tiller-rov-control).
+    static constexpr std::pair<const char*, std::int8_t> kModes[] = {
+        {"MANUAL_OPEN_LOOP", controller_mode_t::MANUAL_OPEN_LOOP},
+        {"MANUAL_CLOSED_LOOP", controller_mode_t::MANUAL_CLOSED_LOOP},
+        {"WAYPOINTING", controller_mode_t::WAYPOINTING},
+        {"STABILISE", controller_mode_t::STABILISE},
+        {"DEPTH_HOLD", controller_mode_t::DEPTH_HOLD},
+        {"HEADING_HOLD", controller_mode_t::HEADING_HOLD},
+        {"RATE", controller_mode_t::RATE},
+        {"SURFACE", controller_mode_t::SURFACE},
+        {"POSITION_HOLD", controller_mode_t::POSITION_HOLD}};
     controller_mode_t c{};
-    if (m == "MANUAL_OPEN_LOOP") {
-      c.mode = controller_mode_t::MANUAL_OPEN_LOOP;
-    } else if (m == "MANUAL_CLOSED_LOOP") {
-      c.mode = controller_mode_t::MANUAL_CLOSED_LOOP;
-    } else if (m == "WAYPOINTING") {
-      c.mode = controller_mode_t::WAYPOINTING;
-    } else {
+    bool known = false;
+    for (const auto& [name, value] : kModes) {
+      if (m == name) {
+        c.mode = value;
+        known = true;
+      }
+    }
+    if (!known) {
       refuse(client, cmd, *bad_command_,
-             "mode: expected MANUAL_OPEN_LOOP, MANUAL_CLOSED_LOOP or WAYPOINTING");
+             "mode: expected one of MANUAL_OPEN_LOOP, MANUAL_CLOSED_LOOP, WAYPOINTING, STABILISE, "
+             "DEPTH_HOLD, HEADING_HOLD, RATE, SURFACE, POSITION_HOLD");
       return;
     }
     const json* tr = member(j, "is_translation");
@@ -535,9 +581,9 @@ void CockpitNode::command(int client, std::string_view text, TimeUs now) {
     reply(client, cmd, true, c + " sent (id " + std::to_string(mc.command_id) + ")");
     return;
   }
-  refuse(
-      client, cmd, *bad_command_,
-      "unknown command type '" + cmd + "' (expected arm, mode, mission_load, mission or gamepad)");
+  refuse(client, cmd, *bad_command_,
+         "unknown command type '" + cmd +
+             "' (expected arm, mode, mission_load, mission, gamepad or thruster_test)");
 }
 
 void CockpitNode::on_gamepad(int client, const void* jp, TimeUs now) {
@@ -597,6 +643,41 @@ void CockpitNode::on_gamepad(int client, const void* jp, TimeUs now) {
   }
   for (std::size_t i = 0; i < 6; ++i) demand_[i] = std::clamp(d[i] * p_.gamepad_gain, -1.0, 1.0);
   publish_demand(now, true);
+}
+
+void CockpitNode::on_thruster_test(int client, const void* jp, TimeUs now) {
+  const json& j = *static_cast<const json*>(jp);
+  const json* active = member(j, "active");
+  const json* press = member(j, "press");
+  if (!active || !active->is_boolean() || !press || !press->is_number_integer()) {
+    refuse(client, "thruster_test", *bad_command_,
+           "thruster_test: expected \"press\" (an integer) and \"active\" (true or false)");
+    return;
+  }
+  const json* th = member(j, "thruster");
+  const json* c = member(j, "command");
+  const json* confirm = member(j, "confirm");
+  const std::int64_t t = th && th->is_number_integer() ? th->get<std::int64_t>() : -1;
+  const auto r = test_.request(client, press->get<std::int64_t>(), active->get<bool>(),
+                               confirm && confirm->is_boolean() && confirm->get<bool>(),
+                               t >= 0 && t <= 15 ? static_cast<int>(t) : -1,
+                               c && c->is_number() ? c->get<double>() : NAN, next_id(now), now);
+  using R = ThrusterTestRelay::Result;
+  if (r == R::kStarted || r == R::kHeld || r == R::kEnded)
+    publish(channels::kThrusterTest, test_.message());
+  if (r == R::kRefused || (r == R::kEnded && test_.why()[0] != '\0')) {
+    refuse(client, "thruster_test", *test_refused_, test_.why());
+  } else if (r == R::kStarted) {
+    ++*accepted_;
+    char buf[112];
+    std::snprintf(buf, sizeof buf,
+                  "thruster %d at %+.2f requested (test id %lld); the mixer's gate decides",
+                  test_.message().thruster, test_.message().command,
+                  static_cast<long long>(test_.message().test_id));
+    reply(client, "thruster_test", true, buf);
+  } else if (r == R::kEnded) {
+    reply(client, "thruster_test", true, "thruster test ended");
+  }
 }
 
 }  // namespace tiller::cockpit

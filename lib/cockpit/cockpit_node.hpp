@@ -25,16 +25,17 @@
 //   mission start/pause/resume/abort/release -> TILLER_MISSION_COMMAND (a new command_id each);
 //                                           release also a disarm request
 //   gamepad (axes of the browser's Gamepad API) -> TILLER_MANUAL_DEMAND
-// The cockpit never publishes thruster commands: thrust comes only through tiller-mixer's intent
-// gate (lib/safety/intent_gate.hpp), which needs a centred stick after every arming and every
-// loss, exactly as for tiller-teleop.
-// The gamepad follows tiller-teleop's rules: one page at a time is the pilot (another page's
-// gamepad is refused, rejected.gamepad.other_pilot); its demand is neutral and invalid until
-// every mapped axis has been reported and seen inside its deadzone; the page sends its axes
-// every 50 ms while it is visible. A page that says it lost its gamepad or was hidden
-// (connected: false), closes its socket (client_closed), sends a bad value, or is silent for
-// gamepad.timeout_s gives a neutral, invalid demand at once and must centre again; the mixer's
-// freshness limit covers a lost packet. shutdown() sends the same neutral, invalid demand.
+//   thruster_test (hold-to-spin, needs confirm) -> TILLER_THRUSTER_TEST (cockpit/thruster_test.hpp)
+// The cockpit never publishes thruster commands (a thruster test is a request to the mixer's gate):
+// thrust comes only through tiller-mixer's intent gate (lib/safety/intent_gate.hpp), which needs a
+// centred stick after every arming and every loss, exactly as for tiller-teleop. The gamepad
+// follows tiller-teleop's rules: one page at a time is the pilot (another page's gamepad is
+// refused, rejected.gamepad.other_pilot); its demand is neutral and invalid until every mapped axis
+// has been reported and seen inside its deadzone; the page sends its axes every 50 ms while it is
+// visible. A page that says it lost its gamepad or was hidden (connected: false), closes its socket
+// (client_closed), sends a bad value, or is silent for gamepad.timeout_s gives a neutral, invalid
+// demand at once and must centre again; the mixer's freshness limit covers a lost packet.
+// shutdown() sends the same neutral, invalid demand.
 #pragma once
 
 #include <functional>
@@ -48,6 +49,7 @@
 #include <tiller/path_t.hpp>
 
 #include "cockpit/cockpit_config.hpp"
+#include "cockpit/thruster_test.hpp"
 #include "mission/mission.hpp"
 #include "runtime/node.hpp"
 
@@ -99,6 +101,7 @@ class CockpitNode : public Node {
   void reply(int client, std::string_view command, bool ok, const std::string& detail);
   bool refuse(int client, std::string_view command, std::int64_t& counter, const std::string& why);
   void on_gamepad(int client, const void* json, TimeUs now);
+  void on_thruster_test(int client, const void* json, TimeUs now);
   void pilot_lost(TimeUs now, std::int64_t& why);
   void publish_demand(TimeUs now, bool valid);
   void emit(int client);
@@ -118,6 +121,8 @@ class CockpitNode : public Node {
   bool centred_ = false;
   std::array<double, 6> demand_{};
   manual_demand_t demand_msg_{};
+  // thruster test
+  ThrusterTestRelay test_;
   // mission
   bool path_active_ = false;
   path_t path_;
@@ -135,6 +140,7 @@ class CockpitNode : public Node {
   std::int64_t* pilot_released_;
   std::int64_t* heartbeat_unknown_;
   std::int64_t* bad_heartbeat_;
+  std::int64_t* test_refused_;
 };
 
 }  // namespace tiller::cockpit

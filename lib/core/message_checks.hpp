@@ -38,10 +38,12 @@
 #include <tiller/odometry_t.hpp>
 #include <tiller/path_progress_t.hpp>
 #include <tiller/path_t.hpp>
+#include <tiller/pid_terms_t.hpp>
 #include <tiller/power_t.hpp>
 #include <tiller/pressure_t.hpp>
 #include <tiller/station_target_t.hpp>
 #include <tiller/thruster_command_t.hpp>
+#include <tiller/thruster_test_t.hpp>
 #include <tiller/vehicle_status_t.hpp>
 #include <tiller/velocity_setpoint_t.hpp>
 #include <tiller/wrench_t.hpp>
@@ -231,8 +233,26 @@ inline Reason check(const thruster_command_t& m) {
   if (m.command.size() < static_cast<std::size_t>(m.n_thrusters) ||
       !detail::within(m.command.data(), static_cast<std::size_t>(m.n_thrusters), -1, 1))
     return "command.range";
-  if (m.gate < thruster_command_t::GATE_DISARMED || m.gate > thruster_command_t::GATE_INPUT_LOST)
+  if (m.gate < thruster_command_t::GATE_DISARMED || m.gate > thruster_command_t::GATE_TEST)
     return "gate.unknown";
+  return nullptr;
+}
+
+// thruster_test_t: an id >= 1, a thruster index 0..15, the command in [-1, 1] (the mixer holds
+// it to its smaller thruster_test.max_command and the vehicle's thruster count).
+inline Reason check(const thruster_test_t& m) {
+  if (m.test_id < 1) return "test_id.range";
+  if (m.thruster < 0 || m.thruster > 15) return "thruster.range";
+  if (!(std::fabs(m.command) <= 1.0)) return "command.range";
+  return nullptr;
+}
+
+// pid_terms_t: every term finite (its contract gives units, no range).
+inline Reason check(const pid_terms_t& m) {
+  using detail::finite;
+  if (!finite(m.setpoint, 3) || !finite(m.measured, 3) || !finite(m.p, 3) || !finite(m.i, 3) ||
+      !finite(m.d, 3) || !finite(m.feed_forward, 3) || !finite(m.output, 3))
+    return "term.nan";
   return nullptr;
 }
 

@@ -118,18 +118,31 @@ double PathFollower::crab() const {
 
 // The state is the crab angle that cancels the current's component along the path normal.
 // The normal turns with the path: project the known component onto the new normal.
+// world_integral: the correction is a world-frame vector; keep only its component along the new
+// segment's normal (the part along the new leg would only add to or take from its speed).
 void PathFollower::carry_state(int from_seg, int to_seg) {
-  if (p_.law != CrossTrackLaw::kIntegral && p_.law != CrossTrackLaw::kAdaptive) return;
   const int n = static_cast<int>(pts_.size());
-  if (from_seg < 0 || to_seg < 0 || from_seg + 1 >= n || to_seg + 1 >= n) {
-    state_ = 0;
-    return;
-  }
+  const bool valid = from_seg >= 0 && to_seg >= 0 && from_seg + 1 < n && to_seg + 1 < n;
   const auto dir = [&](int k) {
     return Vec2(pts_[static_cast<std::size_t>(k + 1)].position -
                 pts_[static_cast<std::size_t>(k)].position)
         .normalized();
   };
+  if (p_.law == CrossTrackLaw::kWorldIntegral) {
+    if (!valid) {
+      world_integral_.setZero();
+      return;
+    }
+    const Vec2 t = dir(to_seg);
+    const Vec2 normal(-t.y(), t.x());
+    world_integral_ = normal * normal.dot(world_integral_);
+    return;
+  }
+  if (p_.law != CrossTrackLaw::kIntegral && p_.law != CrossTrackLaw::kAdaptive) return;
+  if (!valid) {
+    state_ = 0;
+    return;
+  }
   const double c = std::clamp(dir(from_seg).dot(dir(to_seg)), -1.0, 1.0);
   const double beta = std::asin(std::clamp(std::sin(crab()) * c, -1.0, 1.0));
   state_ =
@@ -274,6 +287,10 @@ FollowerOutput PathFollower::update(const Vec2& pos, double heading, double dt) 
         v_perp += world_integral_;
       }
       v = t * along_speed + v_perp;
+      // Never above max_speed (the correction added to a full along-path speed went up to
+      // 1.85 m/s for 1.5: issue 13 finding 2): scale, keeping the direction.
+      const double m = v.norm();
+      if (m > p_.max_speed) v *= p_.max_speed / m;
     } else {
       const double ye = out.cross_track;
       const double d = p_.lookahead;

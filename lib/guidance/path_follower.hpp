@@ -25,10 +25,10 @@
 // than acceptance_radius from its first point and in the middle of the previous segment, the
 // follower steps back to the previous segment, as the seed's notes say it most likely should.
 //
-// world_integral (the shipped default until the LOS laws pass the short-mission tests): the
-// seed's law plus a world-frame velocity correction integrating the vector to the path (bounded
-// by integral_limit). Known defect (issue 13 finding 2): never unwound at a corner, so after a
-// 90 deg turn it points along the new leg and the setpoint exceeds max_speed.
+// world_integral: the seed's law plus a world-frame velocity correction integrating the vector
+// to the path (bounded by integral_limit). At a segment switch only its component along the new
+// segment's normal is kept (issue 13 finding 2: kept whole, after a 90 deg turn it pointed along
+// the new leg), and the commanded velocity is scaled down to max_speed when above it.
 //
 // Beyond the seed, three line-of-sight (LOS) cross-track laws (docs/algorithms.md has the
 // sources). With pi_p the segment's direction, e the cross-track error (+ right of the path)

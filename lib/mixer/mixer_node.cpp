@@ -69,6 +69,21 @@ MixerParams load_mixer_params(const config::Value& root) {
   if (auto f = root.find("safety")) {
     p.disarm_after_us = from_seconds(f->number_or("disarm_after_s", 3.0, {0.1, 600.0}));
   }
+  if (auto f = root.find("thruster_test")) {
+    p.test_max_command = f->number_or("max_command", 0.15, {0.0, 0.3});
+    p.test_request_us = from_seconds(f->number_or("request_s", 0.5, {0.05, 2.0}));
+    p.test_max_duration_us = from_seconds(f->number_or("max_duration_s", 10.0, {0.5, 60.0}));
+    if (auto v = f->find("senders")) {
+      p.test_senders.clear();
+      for (const auto& item : v->items()) {
+        const std::string name = item.as_string();
+        if (name.empty() || name.size() > 16)
+          item.fail("a node name of 1 to 16 characters (the sender in a signed message)");
+        p.test_senders.push_back(name);
+      }
+      if (p.test_senders.empty()) v->fail("a list of at least one sender, e.g. [cockpit]");
+    }
+  }
   return p;
 }
 
@@ -84,9 +99,12 @@ MixerNode::MixerNode(const MixerParams& params, const Vehicle& vehicle)
       manual_fresh_(params.manual_timeout_us),
       arb_fresh_(params.arbitration_timeout_us),
       arm_fresh_(params.arm_timeout_us),
+      test_fresh_(params.test_request_us),
       gate_([&] {
         safety::GateParams g;
         g.disarm_after_us = params.disarm_after_us;
+        g.test_max_command = params.test_max_command;
+        g.test_max_duration_us = params.test_max_duration_us;
         return g;
       }()) {
   velocity_.fresh.set_limit(p_.wrench_timeout_us);
@@ -99,6 +117,8 @@ MixerNode::MixerNode(const MixerParams& params, const Vehicle& vehicle)
   subscribe(channels::kArbitration, &MixerNode::on_arbitration);
   subscribe(channels::kArmState, &MixerNode::on_arm_state);
   subscribe(channels::kMissionCommand, &MixerNode::on_mission_command);
+  subscribe(channels::kThrusterTest, &MixerNode::on_thruster_test);
+  accept_only_from(channels::kThrusterTest, p_.test_senders);
   advertise<thruster_command_t>(channels::kThrusterCommand);
   advertise<allocation_status_t>(channels::kAllocationStatus);
   advertise<arm_request_t>(channels::kArmRequest);  // disarm requests only
@@ -111,6 +131,9 @@ MixerNode::MixerNode(const MixerParams& params, const Vehicle& vehicle)
   cmd_.hold.reserve(128);
   neutral_disarmed_ = &counter("neutral.disarmed");
   neutral_no_input_ = &counter("neutral.no_valid_input");
+  rej_test_ = &counter("rejected.thruster_test.invalid");
+  test_started_ = &counter("thruster_test.started");
+  test_refused_ = &counter("thruster_test.refused");
   const int n = alloc_->size();
   cmd_.n_thrusters = n;
   status_.n_thrusters = n;
@@ -237,6 +260,33 @@ void MixerNode::on_mission_command(const mission_command_t& m, TimeUs now) {
   if (act) output(now);
 }
 
+void MixerNode::on_thruster_test(const thruster_test_t& m, TimeUs now) {
+  if (!on_time(test_fresh_, m.utime, now, "thruster_test")) return;
+  // Published at once only when it can change what the mixer does: a new press, or a running
+  // test let go, changed or ended by a bad request (a repeat while held waits for the tick).
+  const bool testing = gate_.state() == safety::GateState::kTest;
+  if (checks::check(m) != nullptr) {
+    reject(*rej_test_);
+    if (testing) {  // a bad request ends a running test at once; otherwise it is only dropped
+      test_fresh_.reset();
+      output(now);
+    }
+    return;
+  }
+  const bool new_press = m.active && m.test_id != test_.id;
+  const bool change = testing && (!m.active || m.test_id != test_.id ||
+                                  m.thruster != test_.thruster || m.command != test_.command);
+  test_.id = m.test_id;
+  test_.thruster = m.thruster;
+  test_.command = m.command;
+  if (m.active) {
+    test_fresh_.mark(now, m.utime, clock_offset());
+  } else {
+    test_fresh_.reset();
+  }
+  if (new_press || change) output(now);
+}
+
 // The controller the source in control belongs to: the arbitration's mode when it is fresh,
 // else what the fallback source is.
 safety::Controller MixerNode::controller_now(TimeUs now) {
@@ -288,11 +338,21 @@ void MixerNode::output(TimeUs now) {
                     (active_ == wrench_t::SOURCE_VELOCITY_PID && velocity_.fresh.fresh(now)) ||
                     (active_ == wrench_t::SOURCE_STATION_KEEP && station_.fresh.fresh(now)) ||
                     (active_ == wrench_t::SOURCE_ROV_CONTROL && rov_.fresh.fresh(now));
+  gi.test = test_;
+  gi.test.fresh = test_fresh_.fresh(now);
+  gi.n_thrusters = alloc_->size();
+  const safety::GateState before = gate_.state();
+  const std::int64_t refused_before = gate_.test_refusals();
   const safety::GateOutput g = gate_.step(gi, now);
   if (g.disarm) request_disarm(g.hold, now);
+  const bool test = armed && g.state == safety::GateState::kTest;
+  if (test && before != safety::GateState::kTest) ++*test_started_;
+  *test_refused_ += gate_.test_refusals() - refused_before;
   bool ok = false;
   if (!armed) {
     ++*neutral_disarmed_;
+  } else if (test) {
+    // One thruster at the test's command, below; nothing allocated.
   } else if (!g.may_move) {
     ++*(g.state == safety::GateState::kInputLost ? neutral_no_input_ : held_neutral_);
   } else if (active_ == wrench_t::SOURCE_MANUAL_DEMAND && manual_fresh_.fresh(now)) {
@@ -317,14 +377,15 @@ void MixerNode::output(TimeUs now) {
   }
 
   cmd_.utime = now;
-  cmd_.armed = armed && ok;
+  cmd_.armed = armed && (ok || test);
   cmd_.gate = static_cast<std::int8_t>(g.state);
   cmd_.arm_allowed = g.arm_allowed;
   cmd_.hold = g.hold;
   cmd_.source = ok ? active_ : wrench_t::SOURCE_NONE;
   for (int i = 0; i < result_.n; ++i)
-    cmd_.command[static_cast<std::size_t>(i)] =
-        ok ? result_.command[static_cast<std::size_t>(i)] : 0.0;
+    cmd_.command[static_cast<std::size_t>(i)] = ok ? result_.command[static_cast<std::size_t>(i)]
+                                                : test && i == g.test_thruster ? g.test_command
+                                                                               : 0.0;
   publish(channels::kThrusterCommand, cmd_);
 
   status_.utime = now;
@@ -346,9 +407,10 @@ void MixerNode::output(TimeUs now) {
   // armed with the source's input missing is DEGRADED.
   const char* text = ok                  ? "allocating"
                      : !armed            ? "disarmed: neutral"
+                     : test              ? "thruster test"
                      : g.hold[0] != '\0' ? g.hold
                                          : "armed, no valid input: neutral";
-  const std::int8_t health = ok || !armed || g.state == safety::GateState::kWaitNeutral
+  const std::int8_t health = ok || test || !armed || g.state == safety::GateState::kWaitNeutral
                                  ? heartbeat_t::STATE_OK
                                  : heartbeat_t::STATE_DEGRADED;
   if (health != health_ || text != health_text_) {

@@ -17,12 +17,17 @@
 // process starting, says in every command whether tiller-esc may grant an arm request
 // (arm_allowed, hold), and publishes a disarm request on TILLER_ARM_REQUEST when the source in
 // control has given no good input for safety.disarm_after_s (default 3 s) or on RELEASE.
+// Thruster test (TILLER_THRUSTER_TEST, thruster_test_t, accepted only from thruster_test.senders,
+// default [cockpit]): the gate's TEST state (docs/safety.md, "Thruster test") commands the one
+// named thruster at the request's command (|command| <= thruster_test.max_command) and every
+// other thruster neutral; the request must come again within thruster_test.request_s.
 // Source choice: see select_source() -- the one place that decides.
 #pragma once
 
 #include <cstdint>
 #include <memory>
 #include <string>
+#include <vector>
 
 #include <tiller/allocation_status_t.hpp>
 #include <tiller/arbitration_t.hpp>
@@ -30,6 +35,7 @@
 #include <tiller/manual_demand_t.hpp>
 #include <tiller/mission_command_t.hpp>
 #include <tiller/thruster_command_t.hpp>
+#include <tiller/thruster_test_t.hpp>
 #include <tiller/wrench_t.hpp>
 
 #include "allocation/allocator.hpp"
@@ -57,6 +63,11 @@ struct MixerParams {
   // every_input: every message publishes at once (the behaviour the golden logs were recorded
   // with).
   bool publish_every_input = false;
+  // thruster_test: the gate's TEST state. max_command 0 refuses every test.
+  double test_max_command = 0.15;                    // max_command: largest |command|, [0, 0.3]
+  TimeUs test_request_us = 500'000;                  // request_s: the request's freshness limit
+  TimeUs test_max_duration_us = 10'000'000;          // max_duration_s: one press at most this long
+  std::vector<std::string> test_senders{"cockpit"};  // senders: who may ask
 };
 
 // Reads config/mixer/<vehicle>.yaml (strict). `vehicle:` is resolved relative to the config
@@ -86,6 +97,7 @@ class MixerNode : public Node {
   void on_arbitration(const arbitration_t& m, TimeUs now);
   void on_arm_state(const arm_state_t& m, TimeUs now);
   void on_mission_command(const mission_command_t& m, TimeUs now);
+  void on_thruster_test(const thruster_test_t& m, TimeUs now);
 
   const Allocator& allocator() const { return *alloc_; }
   const AllocationResult& last_result() const { return result_; }
@@ -114,6 +126,8 @@ class MixerNode : public Node {
   std::int8_t arb_mode_ = 0;
   bool armed_ = false;
   std::int64_t session_ = 0;
+  Freshness test_fresh_;
+  safety::TestRequest test_;  // the latest accepted request (fresh: active)
   safety::IntentGate gate_;
   const char* health_text_ = nullptr;
   std::int8_t active_ = wrench_t::SOURCE_NONE;
@@ -129,6 +143,9 @@ class MixerNode : public Node {
   std::int64_t* rej_arb_mode_ = nullptr;  // made on first use
   std::int64_t* neutral_disarmed_;
   std::int64_t* neutral_no_input_;
+  std::int64_t* rej_test_;
+  std::int64_t* test_started_;
+  std::int64_t* test_refused_;
   std::int64_t stale_seen_ = 0;
   std::int8_t health_ = -1;
 };

@@ -26,6 +26,7 @@ inline constexpr const char* kPidVelocity = "TILLER_PID_VELOCITY";            //
 inline constexpr const char* kPidStation = "TILLER_PID_STATION";              // pid_terms_t
 inline constexpr const char* kAllocationStatus = "TILLER_ALLOCATION_STATUS";  // allocation_status_t
 inline constexpr const char* kThrusterCommand = "TILLER_THRUSTER_COMMAND";    // thruster_command_t
+inline constexpr const char* kThrusterTest = "TILLER_THRUSTER_TEST";          // thruster_test_t
 inline constexpr const char* kEscOutput = "TILLER_ESC_OUTPUT";                // esc_output_t
 inline constexpr const char* kEscTelemetry = "TILLER_ESC_TELEMETRY";          // esc_telemetry_t
 inline constexpr const char* kEscStatus = "TILLER_ESC_STATUS";                // esc_bus_status_t

@@ -11,6 +11,7 @@ static_assert(static_cast<int>(GateState::kDisarmed) == thruster_command_t::GATE
 static_assert(static_cast<int>(GateState::kWaitNeutral) == thruster_command_t::GATE_WAIT_NEUTRAL);
 static_assert(static_cast<int>(GateState::kActive) == thruster_command_t::GATE_ACTIVE);
 static_assert(static_cast<int>(GateState::kInputLost) == thruster_command_t::GATE_INPUT_LOST);
+static_assert(static_cast<int>(GateState::kTest) == thruster_command_t::GATE_TEST);
 
 namespace {
 constexpr const char* kAxisNames[6] = {"surge", "sway", "heave", "roll", "pitch", "yaw"};
@@ -27,6 +28,7 @@ bool IntentGate::is_new_id(std::int64_t id) {
 bool IntentGate::operator_go(std::int64_t command_id, TimeUs) {
   if (!is_new_id(command_id)) return false;
   go_pending_ = true;
+  ++gos_;
   return true;
 }
 
@@ -58,6 +60,7 @@ GateOutput IntentGate::step(const GateInput& in, TimeUs now) {
   out.arm_allowed = refuse[0] == '\0';
 
   if (!in.armed) {
+    if (state_ == GateState::kTest) end_test("disarmed");
     enter(GateState::kDisarmed);
     go_pending_ = false;
     release_pending_ = false;
@@ -65,6 +68,12 @@ GateOutput IntentGate::step(const GateInput& in, TimeUs now) {
     session_ = -1;
     out.state = state_;
     out.hold = refuse;
+    if (in.test.fresh && in.test.id != test_id_) {  // a press while disarmed is used up
+      test_id_ = in.test.id;
+      ++test_refusals_;
+      std::snprintf(test_buf_, sizeof test_buf_, "thruster test refused: not armed (arm first)");
+    }
+    if (in.test.fresh && in.test.id == test_id_ && refuse[0] == '\0') out.hold = test_buf_;
     return out;
   }
   // Armed. A new arming, or another controller, starts over from WAIT_NEUTRAL.
@@ -73,6 +82,8 @@ GateOutput IntentGate::step(const GateInput& in, TimeUs now) {
       disarm_sent_ = false;
       last_good_ = now;
     }
+    if (state_ == GateState::kTest)
+      end_test(in.session != session_ ? "a new arming" : "the controller changed");
     session_ = in.session;
     controller_ = in.controller;
     enter(GateState::kWaitNeutral);
@@ -102,8 +113,10 @@ GateOutput IntentGate::step(const GateInput& in, TimeUs now) {
                     : GateState::kActive);
       break;
     case GateState::kDisarmed:
+    case GateState::kTest:  // step_test() decides
       break;
   }
+  const char* test_hold = step_test(in, pilot_neutral, now);
 
   out.state = state_;
   out.may_move = state_ == GateState::kActive;
@@ -116,6 +129,11 @@ GateOutput IntentGate::step(const GateInput& in, TimeUs now) {
     out.hold = pilot ? "armed: pilot input lost: neutral" : "armed: autonomy input lost: neutral";
   }
   if (!out.may_move && refuse[0] != '\0' && state_ != GateState::kInputLost) out.hold = refuse;
+  if (test_hold != nullptr) out.hold = test_hold;
+  if (state_ == GateState::kTest) {
+    out.test_thruster = test_thruster_;
+    out.test_command = test_command_;
+  }
 
   const bool timed_out = !input_ok && now - last_good_ >= p_.disarm_after_us;
   // Once, then again every second while tiller-esc still says armed (a lost request).
@@ -129,6 +147,57 @@ GateOutput IntentGate::step(const GateInput& in, TimeUs now) {
                                 : "autonomy input lost: disarming";
   }
   return out;
+}
+
+const char* IntentGate::end_test(const char* why) {
+  enter(GateState::kWaitNeutral);
+  std::snprintf(test_buf_, sizeof test_buf_, "thruster test ended: %s (press again)", why);
+  return test_buf_;
+}
+
+const char* IntentGate::step_test(const GateInput& in, bool pilot_neutral, TimeUs now) {
+  const TestRequest& t = in.test;
+  const bool cmd_ok = std::fabs(t.command) <= p_.test_max_command;  // false for NaN
+  if (state_ == GateState::kTest) {
+    const char* why = !t.fresh           ? "the button was let go or the request is stale"
+                      : t.id != test_id_ ? "another test id"
+                      : t.thruster != test_thruster_ ? "another thruster"
+                      : !cmd_ok                      ? "command beyond thruster_test.max_command"
+                      : in.pilot_fresh && !pilot_neutral             ? "pilot demand off neutral"
+                      : gos_ != test_gos_                            ? "an operator START or RESUME"
+                      : now - test_start_ >= p_.test_max_duration_us ? "the longest test time"
+                                                                     : nullptr;
+    if (why != nullptr) return end_test(why);
+    test_command_ = t.command;
+    last_good_ = now;  // an operator holds the button: no disarm for want of input
+    std::snprintf(test_buf_, sizeof test_buf_, "thruster test: thruster %d at %+.2f",
+                  test_thruster_, test_command_);
+    return test_buf_;
+  }
+  if (!t.fresh) return nullptr;
+  if (t.id == test_id_) return test_buf_[0] != '\0' ? test_buf_ : nullptr;  // used up
+  test_id_ = t.id;  // a new press: taken now or refused, never retried
+  const bool pilot_ok = !in.pilot_fresh || pilot_neutral;
+  const char* why = state_ == GateState::kActive && controller_ != Controller::kPilot
+                        ? "the autonomy is in control (abort or release first)"
+                    : !pilot_ok ? "the pilot's demand is not neutral"
+                    : t.thruster < 0 || t.thruster >= in.n_thrusters ? "no such thruster"
+                    : !cmd_ok ? "command beyond thruster_test.max_command"
+                              : nullptr;
+  if (why != nullptr) {
+    ++test_refusals_;
+    std::snprintf(test_buf_, sizeof test_buf_, "thruster test refused: %s", why);
+    return test_buf_;
+  }
+  enter(GateState::kTest);
+  test_gos_ = gos_;
+  test_thruster_ = t.thruster;
+  test_command_ = t.command;
+  test_start_ = now;
+  last_good_ = now;
+  std::snprintf(test_buf_, sizeof test_buf_, "thruster test: thruster %d at %+.2f", test_thruster_,
+                test_command_);
+  return test_buf_;
 }
 
 }  // namespace tiller::safety

@@ -28,6 +28,16 @@
 //                                 active wrench, or no wrench source at all)
 //   INPUT_LOST   -> WAIT_NEUTRAL  pilot input back (the stick must be centred again)
 //   INPUT_LOST   -> ACTIVE        autonomy input back
+//   TEST          armed, thruster test: one thruster at the test's command, every other neutral.
+//   WAIT_NEUTRAL, INPUT_LOST, or ACTIVE with the pilot in control and its demand neutral or
+//                -> TEST          a fresh thruster test request with a new test id naming a
+//                thruster
+//                                 of the vehicle at |command| <= test_max_command (else refused:
+//                                 hold says why while that id is held)
+//   TEST         -> WAIT_NEUTRAL  the request ends (let go, stale: link loss), another id or
+//                                 thruster or command beyond the cap, a pilot demand off
+//                                 neutral, an operator START/RESUME, test_max_duration; the
+//                                 id is used up (a new press is needed)
 // Disarm: armed with no good input from the source in control for `disarm_after` (default 3 s,
 // counted from the later of the last good input and the arming), or an operator RELEASE: step()
 // returns disarm = true (once, then every second while still armed), and the mixer publishes
@@ -48,11 +58,27 @@ namespace tiller::safety {
 
 enum class Controller : std::int8_t { kNone, kPilot, kAutonomy };
 // Values equal thruster_command_t GATE_* (checked in intent_gate.cpp).
-enum class GateState : std::int8_t { kDisarmed = 0, kWaitNeutral = 1, kActive = 2, kInputLost = 3 };
+enum class GateState : std::int8_t {
+  kDisarmed = 0,
+  kWaitNeutral = 1,
+  kActive = 2,
+  kInputLost = 3,
+  kTest = 4
+};
 
 struct GateParams {
-  TimeUs disarm_after_us = 3'000'000;  // armed without good input this long -> disarm
-  double neutral_tolerance = 1e-6;     // |demand| per axis counted as centred
+  TimeUs disarm_after_us = 3'000'000;        // armed without good input this long -> disarm
+  double neutral_tolerance = 1e-6;           // |demand| per axis counted as centred
+  double test_max_command = 0.15;            // thruster test: the largest |command| (normalised)
+  TimeUs test_max_duration_us = 10'000'000;  // one press of the test lasts at most this long
+};
+
+// A thruster test request (thruster_test_t), as the mixer last received it.
+struct TestRequest {
+  bool fresh = false;    // received within its freshness limit, valid, active
+  std::int64_t id = 0;   // test_id: new for every press
+  int thruster = -1;     // index
+  double command = 0.0;  // normalised
 };
 
 struct GateInput {
@@ -62,6 +88,8 @@ struct GateInput {
   bool pilot_fresh = false;       // a valid manual demand within its freshness limit
   std::array<double, 6> pilot{};  // that demand (normalised [X Y Z K M N])
   bool source_fresh = false;      // the active source's input is fresh and valid
+  TestRequest test;               // a thruster test request
+  int n_thrusters = 0;            // the vehicle's thrusters (a test names one of them)
 };
 
 struct GateOutput {
@@ -70,6 +98,8 @@ struct GateOutput {
   bool arm_allowed = false;  // an arm request may be granted now
   bool disarm = false;       // request a disarm now (once per arming)
   const char* hold = "";     // why thrust is neutral or arming refused ("" when neither)
+  int test_thruster = -1;    // TEST: the one thruster to command, at test_command
+  double test_command = 0.0;
 };
 
 class IntentGate {
@@ -87,10 +117,14 @@ class IntentGate {
   const GateParams& params() const { return p_; }
   // Counters for the heartbeat.
   std::int64_t disarms() const { return disarms_; }
+  std::int64_t test_refusals() const { return test_refusals_; }
 
  private:
   bool is_new_id(std::int64_t id);
   void enter(GateState s) { state_ = s; }
+  // The thruster test's part of step(): enter, keep or leave TEST. Returns the hold text.
+  const char* step_test(const GateInput& in, bool pilot_neutral, TimeUs now);
+  const char* end_test(const char* why);
 
   GateParams p_;
   GateState state_ = GateState::kDisarmed;
@@ -104,7 +138,15 @@ class IntentGate {
   std::array<std::int64_t, 8> seen_ids_{};  // the last ids acted on
   std::size_t next_id_slot_ = 0;
   std::int64_t disarms_ = 0;
+  std::int64_t test_refusals_ = 0;
   char buf_[96] = {};
+  // thruster test
+  std::int64_t test_id_ = 0;  // the id in TEST, or the last one refused or ended (used up)
+  int test_thruster_ = -1;
+  double test_command_ = 0.0;
+  TimeUs test_start_ = 0;
+  std::int64_t gos_ = 0, test_gos_ = 0;  // operator STARTs/RESUMEs seen; at the test's start
+  char test_buf_[112] = {};              // why the used-up id is refused, while it is held
 };
 
 }  // namespace tiller::safety

@@ -15,6 +15,7 @@ namespace tiller {
 namespace {
 
 constexpr std::int64_t kAxisMax = 32767;
+constexpr std::int32_t kNeeds = int{odometry_t::VALID_DEPTH} | int{odometry_t::VALID_ATTITUDE};
 
 StickStep load_step(const config::Value& s, const StickScriptParams& p) {
   StickStep st;
@@ -105,6 +106,7 @@ StickScriptNode::StickScriptNode(StickScriptParams p)
     : Node("stick-script", p.period), p_(std::move(p)), odom_fresh_(p_.odometry_timeout) {
   subscribe(channels::kOdometry, &StickScriptNode::on_odometry);
   rejected_odom_ = &counter("rejected.odometry.invalid");
+  invalid_odom_ = &counter("odometry.invalid");
   js_.device = "stick-script";
   js_.connected = true;
   js_.n_axes = p_.n_axes;
@@ -118,6 +120,12 @@ void StickScriptNode::on_odometry(const odometry_t& o, TimeUs now) {
   if (!on_time(odom_fresh_, o.utime, now, "odometry")) return;
   if (checks::check(o) != nullptr) {
     reject(*rejected_odom_);
+    return;
+  }
+  // The pilot watches the depth gauge and the compass: odometry without a valid depth and
+  // attitude (odometry_t.valid) is not taken, so it goes stale and a step needing it fails.
+  if ((o.valid & kNeeds) != kNeeds) {
+    ++*invalid_odom_;
     return;
   }
   odom_fresh_.mark(now, o.utime, clock_offset());

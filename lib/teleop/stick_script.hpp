@@ -9,10 +9,11 @@
 // start heading plus an angle, or either against the value held when the measurement begins
 // (`held`: what a depth-hold or heading-hold mode should keep), after a settling time; RMS and
 // largest, checked against limits at the end (report()). Each step's start is printed on
-// stderr ("tiller-stick-script: step 3/9: dive"), so a harness can act at a step. Pure: no device,
-// no clock (time is what the executor tells). A step whose end condition is not met by its timeout,
-// or odometry lost (older than the timeout) while a step needs it, fails the script: the stick is
-// centred and the script stops.
+// stderr ("tiller-stick-script: step 3/9: dive"), so a harness can act at a step. Pure: no
+// device, no clock (time is what the executor tells). A step whose end condition is not met by
+// its timeout, or odometry lost (older than the timeout, or without a valid depth and attitude
+// in odometry_t.valid: not taken, counted in odometry.invalid) while a step needs it, fails the
+// script: the stick is centred and the script stops.
 #pragma once
 
 #include <cmath>
@@ -118,7 +119,7 @@ class StickScriptNode : public Node {
   std::string why_;
   std::vector<StickMeasure> measures_;
   double sum_d2_ = 0, sum_h2_ = 0;
-  std::int64_t* rejected_odom_;
+  std::int64_t *rejected_odom_, *invalid_odom_;
 };
 
 }  // namespace tiller

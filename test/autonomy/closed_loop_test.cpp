@@ -1,7 +1,7 @@
 // Closed loop in lockstep: missions complete without missing a waypoint, end within 0.5 m of
-// the goal, hold station for 120 s, hand over without a thrust step; the velocity PID's step
-// response. In a 0.3 m/s current from 30 deg; station keeping after a straight approach in a
-// current from 8 directions.
+// the goal (the wayfinding course within issue 13's 0.10 m), hold station for 120 s, hand over
+// without a thrust step; the velocity PID's step response. In a 0.3 m/s current from 30 deg;
+// station keeping after a straight approach in a current from 8 directions.
 #include <gtest/gtest.h>
 
 #include <cmath>
@@ -45,9 +45,18 @@ TEST(ClosedLoop, WayfindingCourseCompletesWithoutMissingAWaypoint) {
     EXPECT_TRUE(r.completed);
     EXPECT_EQ(r.skipped, 0);                // the follower never passed a point outside 1 m
     EXPECT_EQ(r.path.waypoints_missed, 0);  // every point reached in order within 1 m
-    EXPECT_LT(r.path.final_position_error, 0.5);
-    EXPECT_LT(r.path.cross_track_rms, 1.5);
+    // Issue 13 targets: final error <= 0.10 m; the cross-track RMS and corner overshoot at their
+    // measured values with a margin. Measured (the old code: world_integral kept whole across a
+    // corner, turn_rate 0, in brackets): Otter final 0.069 m (0.261), RMS 0.232 (0.345),
+    // overshoot 1.189 (1.320); X 0.000, 0.086, 0.132 (0.104); H 0.000, 0.073, 0.121 (0.090).
+    const bool otter = k.name == "otter";
+    EXPECT_LE(r.path.final_position_error, 0.10);
+    EXPECT_LT(r.path.cross_track_rms, otter ? 0.27 : 0.1);
+    EXPECT_LT(r.corners.max_overshoot, otter ? 1.3 : 0.2);
     EXPECT_LT(r.max_switch_jump, 20.0);  // N per 50 ms after a hand-over: no step
+    std::printf("%s wayfinding: final %.3f xte_rms %.3f overshoot %.3f switch step %.2f N\n",
+                k.name.c_str(), r.path.final_position_error, r.path.cross_track_rms,
+                r.corners.max_overshoot, r.max_switch_jump);
   }
 }
 

@@ -8,7 +8,14 @@
 //   ROV (config/launch/sim_rov_cockpit.yaml): an injected gamepad (navigator.getGamepads
 //   overridden by addInitScript) arms with centred sticks and flies the ROV forward; a hidden
 //   page gives neutral; closing the page with the stick held gives neutral within the mixer's
-//   link-loss limit (0.5 s), measured.
+//   link-loss limit (0.5 s), measured. The thruster test: refused while disarmed; armed with the
+//   stick centred, holding the page's button spins the one chosen thruster (gate TEST, its ESC
+//   output moves, every other stays neutral) and letting go gives neutral again.
+//   Memory: the USV page's JS heap (CDP Performance.getMetrics JSHeapUsedSize, after a forced GC)
+//   sampled every 2 s from 5 s after load; after the mission (the warm-up: the code, the path and
+//   the track arrive) the page stays live for SOAK_S s (20; TILLER_COCKPIT_SOAK_S=600 by hand: the
+//   10-minute run, samples in heap-samples.csv) and a growth trend over that span beyond
+//   HEAP_BOUND_MB per minute fails. The cockpit's own CPU (from /proc) is printed for that span.
 'use strict';
 const { chromium } = require('./browser/node_modules/playwright-core');
 const { spawn } = require('child_process');
@@ -24,8 +31,11 @@ const sleep = (ms) => new Promise((r) => setTimeout(r, ms));
 fs.mkdirSync(out, { recursive: true });
 
 function launch(file) {
-  const log = fs.openSync(path.join(out, path.basename(file, '.yaml') + '.log'), 'w');
-  const p = spawn(path.join(bin, 'tiller-launch'), [file, '--log-file', path.join(out, path.basename(file, '.yaml') + '.lcmlog')],
+  const base = path.join(out, path.basename(file, '.yaml'));
+  const log = fs.openSync(base + '.log', 'w');
+  // lcm-logger refuses to overwrite a log: a re-run in the same build dir starts from none.
+  for (const old of [base + '.lcmlog', base + '.replay.yaml']) fs.rmSync(old, { force: true });
+  const p = spawn(path.join(bin, 'tiller-launch'), [file, '--log-file', base + '.lcmlog'],
                   { cwd: src, stdio: ['ignore', log, log] });
   return p;
 }
@@ -53,6 +63,47 @@ async function waitForServer() {
   }
   throw new Error('tiller-cockpit did not listen on 127.0.0.1:8088');
 }
+const SOAK_S = Number(process.env.TILLER_COCKPIT_SOAK_S || 20);  // live time after the mission
+const HEAP_BOUND_MB = 1.0;  // per minute, least-squares slope of the GC'd heap
+
+// The JS heap of a page, sampled through CDP after a forced GC: [[s since start, MB], ...].
+async function heapSampler(page, every_ms) {
+  const cdp = await page.context().newCDPSession(page);
+  await cdp.send('Performance.enable');
+  const samples = [];
+  const t0 = Date.now();
+  let stop = false;
+  const loop = (async () => {
+    while (!stop) {
+      await cdp.send('HeapProfiler.collectGarbage');
+      const m = await cdp.send('Performance.getMetrics');
+      const used = m.metrics.find((x) => x.name === 'JSHeapUsedSize').value;
+      samples.push([(Date.now() - t0) / 1000, used / 1048576]);
+      const wait = Date.now() + every_ms;
+      while (!stop && Date.now() < wait) await sleep(100);
+    }
+  })();
+  return { samples, stop: async () => { stop = true; await loop; } };
+}
+function slopePerMin(samples) {
+  const n = samples.length, mx = samples.reduce((a, s) => a + s[0], 0) / n, my = samples.reduce((a, s) => a + s[1], 0) / n;
+  let sxy = 0, sxx = 0;
+  for (const [x, y] of samples) { sxy += (x - mx) * (y - my); sxx += (x - mx) * (x - mx); }
+  return sxx > 0 ? (sxy / sxx) * 60 : 0;
+}
+// CPU seconds (user + system) of the launch's child running `comm`, from /proc.
+function cpuOf(parent, comm) {
+  for (const d of fs.readdirSync('/proc')) {
+    if (!/^\d+$/.test(d)) continue;
+    try {
+      const stat = fs.readFileSync(`/proc/${d}/stat`, 'utf8');
+      const f = stat.slice(stat.lastIndexOf(')') + 2).split(' ');
+      if (Number(f[1]) === parent && stat.includes(`(${comm.slice(0, 15)})`)) return (Number(f[11]) + Number(f[12])) / 100;
+    } catch (e) { /* gone */ }
+  }
+  return NaN;
+}
+
 const token = () => fs.readFileSync(path.join(src, 'keys/cockpit.token'), 'utf8').trim();
 const state = (page, expr) => page.evaluate(expr);
 // A button press through the DOM (the page re-renders 20 times a second; no pointer needed).
@@ -66,8 +117,11 @@ async function usv(browser) {
     const page = await ctx.newPage();
     page.on('pageerror', (e) => check(false, 'page error: ' + e.message));
     await page.goto(`http://127.0.0.1:8088/#token=${token()}`);
+    const loadedAt = Date.now();
     await until(() => state(page, () => st.health.length > 0 && st.health.every((h) => h.state === 'OK')), 10000,
                 'the page shows every process OK');
+    await sleep(Math.max(0, 5000 - (Date.now() - loadedAt)));  // warm-up
+    const heap = await heapSampler(page, 2000);
     check(await page.textContent('#tokenstate') === 'commands: token set', 'the token from the URL is taken');
     check(!(await page.url()).includes('token='), 'the token leaves the address bar');
     await until(() => state(page, () => !!st.msgs.TILLER_ODOMETRY && !!st.msgs.TILLER_THRUSTER_COMMAND), 5000, 'odometry and thruster commands shown');
@@ -111,6 +165,29 @@ async function usv(browser) {
     if (done) notes.push(`USV mission from the page complete ${((Date.now() - t0) / 1000).toFixed(1)} s after Start`);
     await sleep(1500);
     await page.screenshot({ path: path.join(out, '03-usv-complete.png') });
+    await page.locator('#plots').screenshot({ path: path.join(out, 'plots.png') });
+    // Live updates go on (station keeping at the goal) while the heap and the cockpit's CPU are
+    // sampled; the frame rate the page sees is counted.
+    const cpu0 = cpuOf(stack.pid, 'tiller-cockpit'), wall0 = Date.now(), soakFrom = heap.samples.length;
+    await page.evaluate(() => { window.__frames = 0; const f = onState; onState = (m) => { window.__frames++; f(m); }; });
+    for (let left = SOAK_S; left > 0; left -= 60) {
+      await sleep(Math.min(60, left) * 1000);
+      if (SOAK_S > 60) console.log(`     soak: ${SOAK_S - left + Math.min(60, left)} s, heap ${heap.samples[heap.samples.length - 1][1].toFixed(2)} MB`);
+    }
+    const wall = (Date.now() - wall0) / 1000, cpu = cpuOf(stack.pid, 'tiller-cockpit') - cpu0;
+    const frames = await state(page, () => window.__frames);
+    notes.push(`tiller-cockpit CPU ${(100 * cpu / wall).toFixed(2)} % of one core over ${wall.toFixed(0)} s, ` +
+               `${(frames / wall).toFixed(1)} state frames/s to each of 1 page (load ${require('os').loadavg()[0].toFixed(1)})`);
+    await heap.stop();
+    const hs = heap.samples, soak = hs.slice(soakFrom), slope = slopePerMin(soak);
+    const lo = Math.min(...hs.map((x) => x[1])), hi = Math.max(...hs.map((x) => x[1]));
+    notes.push(`page JS heap (after GC) over ${hs[hs.length - 1][0].toFixed(0)} s, ${hs.length} samples: ` +
+               `first ${hs[0][1].toFixed(2)} MB, last ${hs[hs.length - 1][1].toFixed(2)} MB, min ${lo.toFixed(2)}, max ${hi.toFixed(2)}, ` +
+               `trend over the ${wall.toFixed(0)} s after the mission ${slope >= 0 ? '+' : ''}${(slope * 1024).toFixed(0)} KB/min ` +
+               `(${soak[0][1].toFixed(2)} -> ${soak[soak.length - 1][1].toFixed(2)} MB)`);
+    console.log('     heap samples (s MB): ' + hs.map((x) => `${x[0].toFixed(0)} ${x[1].toFixed(2)}`).join(', '));
+    if (SOAK_S > 60) fs.writeFileSync(path.join(out, 'heap-samples.csv'), 's,MB\n' + hs.map((x) => x.join(',')).join('\n') + '\n');
+    check(soak.length >= 8 && slope < HEAP_BOUND_MB, `the page's heap shows no growth trend (< ${HEAP_BOUND_MB} MB/min; ${(slope * 1024).toFixed(0)} KB/min)`);
     await press(page, 'release');
     await until(() => state(page, () => !st.msgs.TILLER_ARM_STATE.msg.armed), 3000, 'Release disarms');
     await ctx.close();
@@ -142,16 +219,56 @@ async function rov(browser) {
     const obs = await (await browser.newContext()).newPage();
     await obs.goto('http://127.0.0.1:8088/');
     await until(() => state(page, () => st.pilot.client >= 0 && st.pilot.centred), 3000, 'the centred gamepad is the pilot');
+    // The thruster test: enabled (the page asks), thruster 1 chosen; disarmed, a press is refused.
+    const tcmd = () => state(obs, () => st.msgs.TILLER_THRUSTER_COMMAND.msg);
+    const escOut = () => state(obs, () => st.msgs.TILLER_ESC_OUTPUT && st.msgs.TILLER_ESC_OUTPUT.msg);
+    await until(() => state(page, () => document.getElementById('test_thruster').options.length === 4), 3000, 'the thruster test lists 4 thrusters');
+    let askedTest = '';
+    page.once('dialog', (d) => { askedTest = d.message(); d.accept(); });
+    await page.check('#test_enable');
+    check(askedTest.startsWith('Thruster test:'), 'enabling the thruster test asks for confirmation');
+    await page.selectOption('#test_thruster', '1');
+    await page.locator('#test_spin').hover();
+    await page.mouse.down();
+    await until(async () => (await tcmd()).hold === 'thruster test refused: not armed (arm first)', 2000,
+                'disarmed: the thruster test is refused, with the reason');
+    await page.mouse.up();
     page.once('dialog', (d) => d.accept());
     await press(page, 'arm');
     await until(() => state(page, () => st.msgs.TILLER_ARM_STATE.msg.armed && st.msgs.TILLER_THRUSTER_COMMAND.msg.gate === 2), 3000,
                 'armed with centred sticks: gate ACTIVE');
+    // Armed, stick centred: hold to spin thruster 1 at +0.10.
+    await page.locator('#test_spin').hover();
+    await page.mouse.down();
+    const spinning = await until(async () => { const c = await tcmd(); const e = await escOut();
+      return c.gate === 4 && c.command[1] === 0.1 && e && e.armed && Math.abs(e.normalized[1] - 0.1) < 0.005; }, 2000,
+    'held: gate TEST, thruster 1 commanded +0.10 and its ESC output moves');
+    if (spinning) {
+      await page.screenshot({ path: path.join(out, 'thruster-test.png') });
+      let others = 0;
+      for (let k = 0; k < 8; k++) {  // 0.8 s held: only thruster 1 off neutral, at every look
+        const c = await tcmd(), e = await escOut();
+        if (c.command.some((x, i) => i !== 1 && x !== 0) || e.normalized.some((x, i) => i !== 1 && x !== 0)) others++;
+        await sleep(100);
+      }
+      check(others === 0, 'during the test every other thruster stays neutral (command and ESC output)');
+      const e = await escOut();
+      notes.push(`thruster test: ESC ${e.names[1]} output ${e.value[1]} (normalised ${e.normalized[1].toFixed(3)}), neutral ${e.value[0]}`);
+    }
+    const letGo = Date.now();
+    await page.mouse.up();
+    const fell = await until(async () => { const e = await escOut(); return e.normalized.every((x) => x === 0); }, 2000,
+                             'let go: the ESC output falls back to neutral');
+    if (fell) notes.push(`thruster test let go -> ESC output neutral seen ${Date.now() - letGo} ms later (20 Hz state frames)`);
+    await until(async () => (await tcmd()).gate === 2, 2000, 'after the test the centred pilot is back in control (gate ACTIVE)');
+
     await page.evaluate(() => { window.__maxTimerGap = 0; });
     await page.evaluate(() => { window.__axes = [0, 0, 0, -1]; });  // right stick full forward
     await until(() => state(page, () => st.msgs.TILLER_ODOMETRY.msg.position[0] > 1.0), 15000, 'the gamepad flies the ROV forward');
     const surge = await state(page, () => st.pilot.demand[0]);
     check(surge === 1, `full stick: surge demand 1 (got ${surge})`);
     await page.screenshot({ path: path.join(out, '04-rov-gamepad.png') });
+    await page.locator('#attcard').screenshot({ path: path.join(out, 'rov-attitude.png') });
     maxGap = await state(page, () => window.__maxTimerGap);
     // Hidden page: neutral at once; visible again with the stick held: stays neutral (centre first).
     await page.evaluate(() => { Object.defineProperty(document, 'visibilityState', { configurable: true, get: () => 'hidden' });

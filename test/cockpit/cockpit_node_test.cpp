@@ -12,6 +12,7 @@
 #include <tiller/mission_command_t.hpp>
 #include <tiller/odometry_t.hpp>
 #include <tiller/path_t.hpp>
+#include <tiller/thruster_test_t.hpp>
 
 #include "cockpit/cockpit_node.hpp"
 #include "cockpit/files.hpp"
@@ -307,6 +308,22 @@ TEST(CockpitNode, MissionLoadStartAndErrorsWithLineAndKey) {
   EXPECT_EQ(r.bus.on<path_t>(channels::kPath).size(), n);
 }
 
+// Every controller_mode_t constant can be asked for by name, the ROV modes included.
+TEST(CockpitNode, ModeCommandsCoverTheRovModes) {
+  Rig r;
+  r.send(1, {{"type", "mode"}, {"mode", "DEPTH_HOLD"}}, 1'000);
+  r.send(1, {{"type", "mode"}, {"mode", "POSITION_HOLD"}}, 2'000);
+  r.send(1, {{"type", "mode"}, {"mode", "WAYPOINTING"}, {"is_translation", true}}, 3'000);
+  const auto modes = r.bus.on<controller_mode_t>(channels::kMode);
+  ASSERT_EQ(modes.size(), 3u);
+  EXPECT_EQ(modes[0].mode, 4);  // controller_mode_t.lcm: DEPTH_HOLD = 4
+  EXPECT_EQ(modes[1].mode, 8);  // POSITION_HOLD = 8
+  EXPECT_EQ(modes[2].mode, 2);  // WAYPOINTING = 2
+  EXPECT_TRUE(modes[2].is_translation);
+  EXPECT_EQ(modes[0].source, "cockpit");
+  EXPECT_EQ(r.node.counter_value("rejected.command.malformed"), 0);
+}
+
 TEST(CockpitNode, MalformedAndUnknownCommandsAreRefused) {
   Rig r;
   r.node.command(1, "{not json", 1'000);
@@ -317,6 +334,86 @@ TEST(CockpitNode, MalformedAndUnknownCommandsAreRefused) {
   EXPECT_FALSE(r.last_reply()["ok"].get<bool>());
   EXPECT_EQ(r.node.counter_value("rejected.command.malformed"), 3);
   EXPECT_TRUE(r.bus.on<controller_mode_t>(channels::kMode).empty());
+}
+
+// The thruster test's relay: a press needs the token and confirm, stays within the cockpit's
+// cap, gets a new test id, is repeated while held and ends at once on let-go, socket close,
+// silence or a bad value; one page at a time.
+TEST(CockpitNode, ThrusterTestIsRelayedToTheMixerAndEndsOnEveryLoss) {
+  Rig r;
+  auto tests = [&] { return r.bus.on<thruster_test_t>(channels::kThrusterTest); };
+  auto press = [&](int client, std::int64_t n, bool active, double cmd, TimeUs now,
+                   bool confirm = true, int thruster = 2) {
+    r.send(client,
+           {{"type", "thruster_test"},
+            {"press", n},
+            {"active", active},
+            {"thruster", thruster},
+            {"command", cmd},
+            {"confirm", confirm}},
+           now);
+  };
+  press(1, 1, true, 0.1, 1'000, false);
+  EXPECT_EQ(r.last_reply()["error"], "a thruster test needs \"confirm\": true");
+  press(1, 1, true, 0.11, 2'000);  // the cockpit's default cap is 0.1
+  EXPECT_EQ(r.last_reply()["error"], "command beyond the cockpit's thruster_test.max_command");
+  EXPECT_TRUE(tests().empty());
+  press(1, 1, true, -0.1, 3'000);
+  ASSERT_EQ(tests().size(), 1u);
+  const thruster_test_t first = tests().back();
+  EXPECT_TRUE(first.active);
+  EXPECT_EQ(first.thruster, 2);
+  EXPECT_DOUBLE_EQ(first.command, -0.1);
+  EXPECT_GE(first.test_id, 1);
+  EXPECT_EQ(first.source, "cockpit");
+  EXPECT_TRUE(r.last_reply()["ok"].get<bool>());
+  // Held: the same id; another page is refused meanwhile.
+  press(1, 1, true, -0.1, 103'000);
+  EXPECT_EQ(tests().back().test_id, first.test_id);
+  press(2, 1, true, 0.1, 104'000);
+  EXPECT_EQ(r.last_reply()["error"], "another page is running a thruster test");
+  EXPECT_EQ(tests().size(), 2u);
+  // Let go: active false at once.
+  press(1, 1, false, 0.0, 150'000);
+  EXPECT_FALSE(tests().back().active);
+  EXPECT_EQ(tests().back().utime, 150'000);
+  // A new press: a new id; the socket closes: ended at once.
+  press(1, 2, true, 0.05, 200'000);
+  EXPECT_GT(tests().back().test_id, first.test_id);
+  r.node.client_closed(1, 210'000);
+  EXPECT_FALSE(tests().back().active);
+  EXPECT_EQ(tests().back().utime, 210'000);
+  // Silent for more than timeout_s (0.5 s): ended at the next tick; that press stays ended.
+  press(2, 7, true, 0.05, 300'000);
+  EXPECT_TRUE(tests().back().active);
+  r.node.tick(750'000);
+  EXPECT_TRUE(tests().back().active);
+  r.node.tick(850'000);
+  EXPECT_FALSE(tests().back().active);
+  EXPECT_EQ(tests().back().utime, 850'000);
+  std::size_t n = tests().size();
+  press(2, 7, true, 0.05, 900'000);
+  EXPECT_EQ(tests().size(), n);
+  EXPECT_EQ(r.last_reply()["error"],
+            "this press ended (silent, or a bad value): let go and press again");
+  // A bad value while held ends the test too.
+  press(2, 8, true, 0.05, 1'000'000);
+  n = tests().size();
+  EXPECT_TRUE(tests().back().active);
+  press(2, 8, true, 0.5, 1'050'000);
+  ASSERT_EQ(tests().size(), n + 1);
+  EXPECT_FALSE(tests().back().active);
+  EXPECT_FALSE(r.last_reply()["ok"].get<bool>());
+  // Without the token nothing is sent.
+  r.send(3,
+         {{"type", "thruster_test"},
+          {"press", 1},
+          {"active", true},
+          {"thruster", 0},
+          {"command", 0.1},
+          {"confirm", true}},
+         1'100'000, false);
+  EXPECT_EQ(tests().size(), n + 1);
 }
 
 }  // namespace

@@ -34,10 +34,12 @@
 #include <tiller/odometry_t.hpp>
 #include <tiller/path_progress_t.hpp>
 #include <tiller/path_t.hpp>
+#include <tiller/pid_terms_t.hpp>
 #include <tiller/power_t.hpp>
 #include <tiller/pressure_t.hpp>
 #include <tiller/station_target_t.hpp>
 #include <tiller/thruster_command_t.hpp>
+#include <tiller/thruster_test_t.hpp>
 #include <tiller/vehicle_status_t.hpp>
 #include <tiller/velocity_setpoint_t.hpp>
 #include <tiller/wrench_t.hpp>
@@ -262,6 +264,31 @@ inline mission_command_t good(const std::string&, TimeUs t, const InputContext&)
   m.command_id = 1;
   m.command = mission_command_t::START;
   m.source = "test";
+  return m;
+}
+
+template <>
+inline thruster_test_t good(const std::string&, TimeUs t, const InputContext&) {
+  thruster_test_t m{};
+  m.utime = t;
+  m.test_id = 1;
+  m.active = true;
+  m.thruster = 0;
+  m.command = 0.1;
+  m.source = "test";
+  return m;
+}
+
+template <>
+inline pid_terms_t good(const std::string&, TimeUs t, const InputContext&) {
+  pid_terms_t m{};
+  m.utime = t;
+  m.controller = "velocity";
+  m.setpoint[0] = 1.0;
+  m.measured[0] = 0.9;
+  m.p[0] = 20.0;
+  m.i[0] = 3.0;
+  m.output[0] = 23.0;
   return m;
 }
 
@@ -762,6 +789,32 @@ inline std::vector<BadValue<thruster_command_t>> bad_values() {
 }
 
 template <>
+inline std::vector<BadValue<thruster_test_t>> bad_values() {
+  return {
+      {"test id 0", kOR, [](thruster_test_t& m) { m.test_id = 0; }},
+      {"thruster 16", kOR, [](thruster_test_t& m) { m.thruster = 16; }},
+      {"thruster -1", kOR, [](thruster_test_t& m) { m.thruster = -1; }},
+      {"command 1.5", kOR, [](thruster_test_t& m) { m.command = 1.5; }},
+      {"command NaN", kNF, [](thruster_test_t& m) { m.command = NAN; }},
+  };
+}
+
+template <>
+inline std::vector<BadValue<pid_terms_t>> bad_values() {
+  return {{"p NaN", kNF, [](pid_terms_t& m) { m.p[0] = NAN; }},
+          {"output inf", kNF, [](pid_terms_t& m) { m.output[2] = INFINITY; }},
+          {"measured NaN", kNF, [](pid_terms_t& m) { m.measured[1] = NAN; }}};
+}
+template <>
+inline std::vector<MissingKind> missing_kinds<pid_terms_t>() {
+  return {{kOR, "its contract gives units, no range: any finite term is good"}};
+}
+template <>
+inline std::int64_t missing_kinds_hash<pid_terms_t>() {
+  return static_cast<std::int64_t>(0xd0445f225875c017ULL);
+}
+
+template <>
 inline std::vector<BadValue<esc_output_t>> bad_values() {
   return {
       {"pulse 3000 us", kOR, [](esc_output_t& m) { m.value.front() = 3000; }},
@@ -846,6 +899,8 @@ inline std::vector<TypeInputs> all_type_inputs() {
           type_inputs<path_t>(),
           type_inputs<path_progress_t>(),
           type_inputs<thruster_command_t>(),
+          type_inputs<thruster_test_t>(),
+          type_inputs<pid_terms_t>(),
           type_inputs<esc_output_t>(),
           type_inputs<joystick_state_t>(),
           type_inputs<heartbeat_t>(),

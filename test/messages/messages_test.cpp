@@ -32,6 +32,7 @@
 #include <tiller/sim_state_t.hpp>
 #include <tiller/station_target_t.hpp>
 #include <tiller/thruster_command_t.hpp>
+#include <tiller/thruster_test_t.hpp>
 #include <tiller/velocity_setpoint_t.hpp>
 #include <tiller/waypoint_t.hpp>
 #include <tiller/wrench_t.hpp>
@@ -308,6 +309,20 @@ TEST(Messages, ThrusterCommandAndEsc) {
   const auto rc = round_trip(c);
   EXPECT_EQ(rc.command, c.command);
   EXPECT_EQ(rc.names, c.names);
+
+  thruster_test_t tt{};
+  tt.utime = 22;
+  tt.test_id = 3;
+  tt.active = true;
+  tt.thruster = 2;
+  tt.command = -0.1;
+  tt.source = "cockpit";
+  const auto rtt = round_trip(tt);
+  EXPECT_EQ(rtt.test_id, 3);
+  EXPECT_EQ(rtt.thruster, 2);
+  EXPECT_EQ(rtt.command, -0.1);
+  EXPECT_TRUE(rtt.active);
+  EXPECT_EQ(rtt.source, "cockpit");
 
   esc_output_t o{};
   o.utime = 20;

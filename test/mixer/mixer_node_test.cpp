@@ -603,5 +603,59 @@ TEST_F(MixerTest, DisarmedHeartbeatIsOkNotFault) {
   }
 }
 
+// The gate's TEST state through the mixer (docs/safety.md, "Thruster test"): one thruster at the
+// request's command, every other 0, the request accepted only from the cockpit; a bad request or
+// silence ends it at once.
+TEST_F(MixerTest, ThrusterTestSpinsOneThrusterAndEndsOnABadRequestOrSilence) {
+  const auto* senders = node->allowed_senders(channels::kThrusterTest);
+  ASSERT_NE(senders, nullptr);
+  EXPECT_EQ(*senders, std::vector<std::string>{"cockpit"});
+  auto test = [&](TimeUs at, double cmd, std::int64_t id = 5, bool active = true) {
+    thruster_test_t t{};
+    t.utime = at;
+    t.test_id = id;
+    t.active = active;
+    t.thruster = 2;
+    t.command = cmd;
+    t.source = "cockpit";
+    ex->inject(channels::kThrusterTest, t, at);
+  };
+  arm(5'000);  // a centred stick: ACTIVE
+  ex->run_until(10'000);
+  test(11'000, -0.12);  // a new press is answered at once
+  ex->run_until(11'000);
+  ASSERT_EQ(seen.back().t, 11'000);
+  EXPECT_EQ(seen.back().cmd.gate, thruster_command_t::GATE_TEST);
+  EXPECT_TRUE(seen.back().cmd.armed);
+  EXPECT_EQ(seen.back().cmd.command, (std::vector<double>{0, 0, -0.12, 0}));
+  EXPECT_EQ(seen.back().cmd.hold, "thruster test: thruster 2 at -0.12");
+  EXPECT_EQ(node->counter_value("thruster_test.started"), 1);
+  test(111'000, -0.12);
+  ex->run_until(200'000);
+  EXPECT_EQ(seen.back().cmd.command, (std::vector<double>{0, 0, -0.12, 0}));
+  test(201'000, 0.9);  // mid-press beyond the mixer's cap (0.15): the test ends at once
+  ex->run_until(201'000);
+  ASSERT_EQ(seen.back().t, 201'000);
+  EXPECT_EQ(seen.back().cmd.gate, thruster_command_t::GATE_WAIT_NEUTRAL);
+  EXPECT_TRUE(neutral(seen.back().cmd));
+  EXPECT_EQ(node->counter_value("rejected.thruster_test.invalid"), 0);  // a valid message
+  // A new press beyond the mixer's cap (0.15) is refused by the gate, with the reason.
+  manual(210'000, 0, 0);
+  test(211'000, 0.2, 6);
+  ex->run_until(211'000);
+  EXPECT_EQ(seen.back().cmd.hold,
+            "thruster test refused: command beyond thruster_test.max_command");
+  EXPECT_TRUE(neutral(seen.back().cmd));
+  // A press held, then silent: neutral once the request is older than request_s (0.5 s).
+  test(300'000, 0.1, 7);
+  arm(300'000);  // the ESC's arm state, fresh (its own 0.5 s limit)
+  arm(600'000);
+  ex->run_until(780'000);
+  EXPECT_EQ(seen.back().cmd.gate, thruster_command_t::GATE_TEST);
+  ex->run_until(820'000);
+  EXPECT_NE(seen.back().cmd.gate, thruster_command_t::GATE_TEST);
+  EXPECT_TRUE(neutral(seen.back().cmd));
+}
+
 }  // namespace
 }  // namespace tiller

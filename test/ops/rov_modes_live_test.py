@@ -11,9 +11,11 @@ reads, and switches the modes with the preset's buttons (docs/flying.md "ROV mod
 dive, depth hold (switched with the hat full down), full forward stick and twist in depth hold,
 heading hold (switched with both held), surge in heading hold, depth hold again, a stale stick
 (tiller-teleop stopped with SIGSTOP for 1.5 s, by the process id the launcher started),
-surface, manual, disarm. From the log it asserts:
-  - the modes in force (TILLER_ARBITRATION) follow the buttons: manual, depth hold, heading
-    hold, depth hold, surface, manual;
+position hold by command, surface, manual, disarm. From the log it asserts:
+  - the modes in force (TILLER_ARBITRATION) follow the buttons and one command
+    (`tiller-rov-control --mode position_hold`, signed with the launch's key): manual, depth
+    hold, heading hold, depth hold, position hold, surface, manual;
+  - position hold: within POSITION_MAX_M horizontally and DEPTH_MAX_M in depth, stick centred;
   - depth hold: the depth stays within DEPTH_MAX_M of the held depth (and DEPTH_RMS_M RMS)
     while the pilot gives full forward stick and twist (issue 15: 5 cm, 2 cm RMS);
   - heading hold: the heading stays within HEADING_RMS_DEG RMS of the held heading while the
@@ -24,7 +26,8 @@ surface, manual, disarm. From the log it asserts:
     neutral, and stays so until the demand comes back;
   - surface: the ROV rises at surface.speed_m_s (0.25 m/s, config/control/bluerov2.yaml) within
     SURFACE_TOL.
-Prints each number. About 30 s of wall time.
+Prints each number, and the thrust change when the hat is released in depth hold (the brake,
+not a switch: not asserted). About 30 s of wall time.
 """
 import csv
 import io
@@ -41,11 +44,13 @@ src, build = sys.argv[1], sys.argv[2]
 bindir = os.path.join(build, "bin")
 DEPTH_MAX_M, DEPTH_RMS_M = 0.05, 0.02
 HEADING_RMS_DEG = 1.0
+POSITION_MAX_M = 0.05   # position hold, stick centred, no current (none asked by the issue)
 STEP_MAX_N = 2.5        # N per mixer tick (20 ms) around a switch: 7 % of the T200's 36.4 N
+TICK_S = 0.02           # the mixer's rate_hz 50
 STALE_NEUTRAL_S = 0.7   # rov-control's input_timeout_s 0.5 s + its tick, the mixer's, logging
 STOP_S = 1.5            # teleop stopped this long (the launcher's liveness_s is 3 s)
 SURFACE_SPEED, SURFACE_TOL = 0.25, 0.2
-MANUAL, DEPTH_HOLD, HEADING_HOLD, SURFACE = 0, 4, 5, 7
+MANUAL, DEPTH_HOLD, HEADING_HOLD, SURFACE, POSITION_HOLD = 0, 4, 5, 7, 8
 failures = []
 
 
@@ -93,6 +98,17 @@ def fly():
             os.kill(teleop, signal.SIGSTOP)
             time.sleep(STOP_S)
             os.kill(teleop, signal.SIGCONT)
+        # The pilot's "position hold" step: the mode by command, signed with the launch's key.
+        while launcher.poll() is None and time.time() - start < 60:
+            if re.search(r"step \d+/\d+: position hold", open(out_path).read()):
+                r = sp.run([os.path.join(bindir, "tiller-rov-control"), "--mode", "position_hold"],
+                           cwd=src, env=dict(os.environ, TILLER_KEY_FILE="keys/sim.key"),
+                           capture_output=True, text=True, timeout=10)
+                if r.returncode != 0:
+                    fail(f"tiller-rov-control --mode position_hold: exit {r.returncode}: "
+                         f"{r.stderr.strip()}")
+                break
+            time.sleep(0.05)
         rc = launcher.wait(timeout=max(1.0, 75 - (time.time() - start)))
     except sp.TimeoutExpired:
         rc = None
@@ -136,7 +152,7 @@ def rows(channel, fields):
 
 
 arb = rows("TILLER_ARBITRATION", "mode")
-cmd = rows("TILLER_THRUSTER_COMMAND", "armed,command")
+cmd = rows("TILLER_THRUSTER_COMMAND", "utime,armed,command")
 dem = rows("TILLER_MANUAL_DEMAND", "demand,valid")
 odo = rows("TILLER_ODOMETRY", "position,orientation")
 if not (arb and cmd and dem and odo):
@@ -171,10 +187,10 @@ for r in arb[1:]:
         changes.append((r["t_s"], int(r["mode"])))
 modes = [m for _, m in changes]
 print(f"modes in force: {modes} at {', '.join(f'{t:.2f}' for t, _ in changes)} s")
-if modes != [MANUAL, DEPTH_HOLD, HEADING_HOLD, DEPTH_HOLD, SURFACE, MANUAL]:
-    fail(f"the modes were {modes}, not manual, depth hold, heading hold, depth hold, surface, "
-         "manual")
-    changes += [(math.inf, -1)] * 6
+if modes != [MANUAL, DEPTH_HOLD, HEADING_HOLD, DEPTH_HOLD, POSITION_HOLD, SURFACE, MANUAL]:
+    fail(f"the modes were {modes}, not manual, depth hold, heading hold, depth hold, position "
+         "hold, surface, manual")
+    changes += [(math.inf, -1)] * 7
 end_of = lambda i: changes[i + 1][0] if i + 1 < len(changes) else math.inf
 
 
@@ -224,12 +240,27 @@ for i in range(1, len(changes)):
     if len(w) < 10:
         fail(f"too few armed thruster commands around the switch to mode {m} at {ts:.2f} s")
         continue
-    step = max(abs(a - b) for p, q in zip(w, w[1:]) for a, b in zip(thrust(q), thrust(p)))
+    # Per 20 ms tick of the mixer's own time (utime): a late tick on a busy machine carries two
+    # ticks' worth of the blend, which is no step.
+    step = max(abs(a - b) * TICK_S / max(TICK_S, (q["utime"] - p["utime"]) * 1e-6)
+               for p, q in zip(w, w[1:]) for a, b in zip(thrust(q), thrust(p)))
     whole = max(abs(a - b) for a, b in zip(thrust(w[-1]), thrust(w[0])))
     print(f"switch to mode {m} at {ts:.2f} s: largest thrust change {step:.2f} N per tick "
           f"(whole change {whole:.2f} N over {w[-1]['t_s'] - w[0]['t_s']:.1f} s)")
     if step > STEP_MAX_N:
         fail(f"switch to mode {m}: a thruster's thrust stepped by {step:.2f} N (over {STEP_MAX_N})")
+
+# Not a switch, printed and not asserted: the hat released in depth hold (0.4 m/s of descent
+# braked to a stop, the rate law's setpoint steps to 0).
+t0, t1 = changes[1][0], end_of(1)
+rel = next((q["t_s"] for p, q in zip(dem, dem[1:])
+            if t0 <= q["t_s"] < t1 and p["demand[2]"] != 0 and q["demand[2]"] == 0), None)
+if rel is not None:
+    w = [r for r in between(cmd, rel - 0.05, rel + 0.5) if r["armed"] == 1]
+    brake = max((abs(a - b) for p, q in zip(w, w[1:]) for a, b in zip(thrust(q), thrust(p))),
+                default=0)
+    print(f"hat released in depth hold at {rel:.2f} s: largest thrust change {brake:.1f} N "
+          "in one tick (the brake; not asserted)")
 
 # Stale stick: the longest gap in the teleop's demand is the stop.
 gaps = [(q["t_s"] - p["t_s"], p["t_s"], q["t_s"]) for p, q in zip(dem, dem[1:])]
@@ -255,8 +286,23 @@ else:
         if late:
             fail(f"{len(late)} thruster commands off neutral while the stick was still stale")
 
-# Surface: the rise rate once the blend is over, down to 0.3 m.
+# Position hold (by command): north, east and depth against where the vehicle is 1 s in.
 t0, t1 = changes[4][0] + 1.0, end_of(4)
+held = between(odo, t0, t1)
+if len(held) < 20:
+    fail(f"too little of position hold to measure ({len(held)} odometry samples)")
+else:
+    n0, e0, d0 = (held[0][f"position[{i}]"] for i in range(3))
+    ne = max(math.hypot(r["position[0]"] - n0, r["position[1]"] - e0) for r in held)
+    dz = max(abs(r["position[2]"] - d0) for r in held)
+    print(f"position hold (tiller-rov-control --mode position_hold) for {t1 - t0:.1f} s: "
+          f"within {ne * 100:.1f} cm horizontally, {dz * 100:.1f} cm in depth")
+    if ne > POSITION_MAX_M or dz > DEPTH_MAX_M:
+        fail(f"position hold: {ne:.3f} m horizontally, {dz:.3f} m in depth (over "
+             f"{POSITION_MAX_M} / {DEPTH_MAX_M})")
+
+# Surface: the rise rate once the blend is over, down to 0.3 m.
+t0, t1 = changes[5][0] + 1.0, end_of(5)
 rise = [r for r in between(odo, t0, t1) if r["position[2]"] > 0.3]
 if len(rise) < 10:
     fail(f"too little of the surface mode to measure ({len(rise)} odometry samples)")

@@ -38,6 +38,7 @@
 #include <tiller/sim_state_t.hpp>
 #include <tiller/station_target_t.hpp>
 #include <tiller/thruster_command_t.hpp>
+#include <tiller/thruster_test_t.hpp>
 #include <tiller/vehicle_status_t.hpp>
 #include <tiller/velocity_setpoint_t.hpp>
 #include <tiller/waypoint_t.hpp>
@@ -205,6 +206,7 @@ std::map<std::string, std::function<void()>> checks() {
     });
   };
   c["vehicle_status_t"] = [] { check<vehicle_status_t>([](auto& m) { m.reason = "leak"; }); };
+  c["thruster_test_t"] = [] { check<thruster_test_t>([](auto& m) { m.source = "cockpit"; }); };
   return c;
 }
 

@@ -2,6 +2,7 @@
 // sequences: each step's state, may_move, arm_allowed and disarm request.
 #include <gtest/gtest.h>
 
+#include <cmath>
 #include <string>
 
 #include "safety/intent_gate.hpp"
@@ -183,6 +184,171 @@ TEST(IntentGate, NoInputAtAllAfterArmingDisarmsAfterTheLimit) {
   o = g.step(autonomy(true, 1, false), 4000 * kMs);
   EXPECT_TRUE(o.disarm);
   EXPECT_EQ(std::string(o.hold), "autonomy input lost: disarming");
+}
+
+// ---- The thruster test (docs/safety.md, "Thruster test"): TEST only while armed with the source
+// in control neutral, one thruster at a capped command, left on any other input.
+
+GateInput with_test(GateInput in, std::int64_t id, int thruster, double command) {
+  in.test.fresh = true;
+  in.test.id = id;
+  in.test.thruster = thruster;
+  in.test.command = command;
+  in.n_thrusters = 4;
+  return in;
+}
+
+TEST(IntentGateTest, EntersOnlyArmedWithANewPressAndCommandsOneThruster) {
+  IntentGate g;
+  // A press while disarmed: refused, and used up (arming does not start it).
+  GateOutput o = g.step(with_test(pilot(false, 0, false, 0.0), 1, 2, 0.1), 0);
+  EXPECT_EQ(o.state, GateState::kDisarmed);
+  EXPECT_EQ(std::string(o.hold), "thruster test refused: not armed (arm first)");
+  o = g.step(with_test(pilot(true, 1, false, 0.0), 1, 2, 0.1), 20 * kMs);
+  EXPECT_EQ(o.state, GateState::kWaitNeutral);
+  EXPECT_EQ(o.test_thruster, -1);
+  EXPECT_EQ(std::string(o.hold), "thruster test refused: not armed (arm first)");
+  // A new press, armed, no pilot input: TEST, thruster 2 at +0.10, the source still held.
+  o = g.step(with_test(pilot(true, 1, false, 0.0), 2, 2, 0.1), 40 * kMs);
+  EXPECT_EQ(o.state, GateState::kTest);
+  EXPECT_FALSE(o.may_move);
+  EXPECT_EQ(o.test_thruster, 2);
+  EXPECT_DOUBLE_EQ(o.test_command, 0.1);
+  EXPECT_EQ(std::string(o.hold), "thruster test: thruster 2 at +0.10");
+  // Let go: WAIT_NEUTRAL at once; holding the same id again does not restart it.
+  GateInput let_go = pilot(true, 1, false, 0.0);
+  let_go.n_thrusters = 4;
+  o = g.step(let_go, 60 * kMs);
+  EXPECT_EQ(o.state, GateState::kWaitNeutral);
+  EXPECT_EQ(o.test_thruster, -1);
+  EXPECT_EQ(std::string(o.hold),
+            "thruster test ended: the button was let go or the request is stale (press again)");
+  o = g.step(with_test(pilot(true, 1, false, 0.0), 2, 2, 0.1), 80 * kMs);
+  EXPECT_EQ(o.state, GateState::kWaitNeutral);
+  o = g.step(with_test(pilot(true, 1, false, 0.0), 3, 0, -0.15), 100 * kMs);
+  EXPECT_EQ(o.state, GateState::kTest);
+  EXPECT_EQ(o.test_thruster, 0);
+  EXPECT_DOUBLE_EQ(o.test_command, -0.15);  // the cap itself is allowed
+  EXPECT_EQ(g.test_refusals(), 1);
+}
+
+TEST(IntentGateTest, RefusesBeyondTheCapAnUnknownThrusterAMovingSource) {
+  IntentGate g;
+  g.step(pilot(true, 1, false, 0.0), 0);
+  GateOutput o = g.step(with_test(pilot(true, 1, false, 0.0), 1, 1, 0.16), 10 * kMs);
+  EXPECT_EQ(o.state, GateState::kWaitNeutral);
+  EXPECT_EQ(std::string(o.hold), "thruster test refused: command beyond thruster_test.max_command");
+  o = g.step(with_test(pilot(true, 1, false, 0.0), 2, 1, NAN), 20 * kMs);
+  EXPECT_EQ(o.state, GateState::kWaitNeutral);
+  o = g.step(with_test(pilot(true, 1, false, 0.0), 3, 4, 0.1), 30 * kMs);
+  EXPECT_EQ(std::string(o.hold), "thruster test refused: no such thruster");
+  o = g.step(with_test(pilot(true, 1, false, 0.0), 4, -1, 0.1), 40 * kMs);
+  EXPECT_EQ(o.state, GateState::kWaitNeutral);
+  // The pilot's stick held off centre (gate waiting for the centre): refused.
+  o = g.step(with_test(pilot(true, 1, true, 0.4), 5, 1, 0.1), 50 * kMs);
+  EXPECT_EQ(o.state, GateState::kWaitNeutral);
+  EXPECT_EQ(std::string(o.hold), "thruster test refused: the pilot's demand is not neutral");
+  EXPECT_EQ(g.test_refusals(), 5);
+  // The autonomy flying its mission: refused; before its START: allowed.
+  IntentGate a;
+  a.step(autonomy(true, 1, true), 0);
+  a.operator_go(1, 0);
+  EXPECT_TRUE(a.step(autonomy(true, 1, true), 10 * kMs).may_move);
+  GateInput ai = with_test(autonomy(true, 1, true), 1, 0, 0.1);
+  o = a.step(ai, 20 * kMs);
+  EXPECT_EQ(o.state, GateState::kActive);
+  EXPECT_EQ(o.test_thruster, -1);
+  EXPECT_EQ(std::string(o.hold),
+            "thruster test refused: the autonomy is in control (abort or release first)");
+  IntentGate b;
+  b.step(autonomy(true, 1, true), 0);
+  o = b.step(with_test(autonomy(true, 1, true), 1, 3, 0.1), 10 * kMs);
+  EXPECT_EQ(o.state, GateState::kTest);
+  EXPECT_EQ(o.test_thruster, 3);
+}
+
+TEST(IntentGateTest, ACentredPilotInControlMayTestAndTakesBackAfterIt) {
+  IntentGate g;
+  EXPECT_EQ(g.step(pilot(true, 1, true, 0.0), 0).state, GateState::kActive);
+  GateOutput o = g.step(with_test(pilot(true, 1, true, 0.0), 1, 1, 0.1), 10 * kMs);
+  EXPECT_EQ(o.state, GateState::kTest);
+  EXPECT_FALSE(o.may_move);
+  // The stick moves during the test: the test ends; the stick must centre again.
+  o = g.step(with_test(pilot(true, 1, true, 0.5), 1, 1, 0.1), 20 * kMs);
+  EXPECT_EQ(o.state, GateState::kWaitNeutral);
+  EXPECT_EQ(o.test_thruster, -1);
+  EXPECT_FALSE(o.may_move);
+  EXPECT_EQ(std::string(o.hold), "thruster test ended: pilot demand off neutral (press again)");
+  o = g.step(pilot(true, 1, true, 0.5), 30 * kMs);
+  EXPECT_EQ(o.state, GateState::kWaitNeutral);
+  EXPECT_FALSE(o.may_move);
+  o = g.step(pilot(true, 1, true, 0.0), 40 * kMs);
+  EXPECT_EQ(o.state, GateState::kActive);
+}
+
+TEST(IntentGateTest, LeavesOnEveryOtherInput) {
+  const GateInput base = pilot(true, 1, false, 0.0);
+  struct Case {
+    const char* what;
+    GateInput in;
+    bool go;
+    GateState to;
+    const char* hold;
+  };
+  GateInput other_id = with_test(base, 2, 1, 0.1);
+  GateInput other_thruster = with_test(base, 1, 2, 0.1);
+  GateInput beyond = with_test(base, 1, 1, -0.2);
+  GateInput disarmed = with_test(pilot(false, 1, false, 0.0), 1, 1, 0.1);
+  GateInput rearmed = with_test(pilot(true, 2, false, 0.0), 1, 1, 0.1);
+  GateInput autonomy_now = with_test(autonomy(true, 1, false), 1, 1, 0.1);
+  const Case cases[] = {
+      {"another id", other_id, false, GateState::kWaitNeutral,
+       "thruster test ended: another test id (press again)"},
+      {"another thruster", other_thruster, false, GateState::kWaitNeutral,
+       "thruster test ended: another thruster (press again)"},
+      {"beyond the cap", beyond, false, GateState::kWaitNeutral,
+       "thruster test ended: command beyond thruster_test.max_command (press again)"},
+      {"an operator START", with_test(base, 1, 1, 0.1), true, GateState::kWaitNeutral,
+       "thruster test ended: an operator START or RESUME (press again)"},
+      {"disarmed", disarmed, false, GateState::kDisarmed,
+       "thruster test ended: disarmed (press again)"},
+      {"a new arming", rearmed, false, GateState::kWaitNeutral,
+       "thruster test ended: a new arming (press again)"},
+      {"the controller changes", autonomy_now, false, GateState::kWaitNeutral,
+       "thruster test ended: the controller changed (press again)"},
+  };
+  for (const Case& c : cases) {
+    SCOPED_TRACE(c.what);
+    IntentGate g;
+    g.step(base, 0);
+    ASSERT_EQ(g.step(with_test(base, 1, 1, 0.1), 10 * kMs).state, GateState::kTest);
+    if (c.go) g.operator_go(9, 15 * kMs);
+    const GateOutput o = g.step(c.in, 20 * kMs);
+    EXPECT_EQ(o.state, c.to);
+    EXPECT_EQ(o.test_thruster, -1);
+    EXPECT_EQ(std::string(o.hold), c.hold);
+  }
+}
+
+TEST(IntentGateTest, TimesOutAndHoldingItKeepsTheArmingAlive) {
+  GateParams p;
+  p.test_max_duration_us = 5'000'000;
+  IntentGate g(p);
+  const GateInput base = pilot(true, 1, false, 0.0);  // no pilot input at all
+  g.step(base, 0);
+  ASSERT_EQ(g.step(with_test(base, 1, 0, 0.1), 2000 * kMs).state, GateState::kTest);
+  // 4.99 s of test, 6.99 s after arming without pilot input: no disarm while the button is held.
+  GateOutput o = g.step(with_test(base, 1, 0, 0.1), 6990 * kMs);
+  EXPECT_EQ(o.state, GateState::kTest);
+  EXPECT_FALSE(o.disarm);
+  o = g.step(with_test(base, 1, 0, 0.1), 7000 * kMs);
+  EXPECT_EQ(o.state, GateState::kWaitNeutral);
+  EXPECT_EQ(std::string(o.hold), "thruster test ended: the longest test time (press again)");
+  // Without input the disarm follows disarm_after (3 s) after the last held test (6.99 s).
+  o = g.step(base, 9980 * kMs);
+  EXPECT_FALSE(o.disarm);
+  o = g.step(base, 9990 * kMs);
+  EXPECT_TRUE(o.disarm);
 }
 
 }  // namespace

@@ -2,11 +2,11 @@
 // at /ws (docs/reference/cockpit-api.md): state frames in, commands (with the token) out.
 'use strict';
 const $ = (id) => document.getElementById(id);
-const st = { msgs: {}, health: [], hello: null, track: [], plots: [], t: 0, pilot: null };
+const st = { msgs: {}, health: [], hello: null, track: [], t: 0, pilot: null };
 let ws = null;
 let token = sessionStorage.getItem('tiller-token') || '';
 let nextId = 1;
-const TRACK_MAX = 3000, PLOT_S = 120;
+const TRACK_MAX = 3000;
 
 (function takeTokenFromUrl() {
   const m = location.hash.match(/token=([^&]+)/);
@@ -94,15 +94,6 @@ function setpoint() {
   return { speed: Math.hypot(s.velocity[0], s.velocity[1]), heading: s.heading_valid ? deg(s.target_heading) : null };
 }
 
-function samplePlots() {
-  const o = msg('TILLER_ODOMETRY');
-  if (!o) return;
-  const sp = setpoint();
-  st.plots.push({ t: st.t / 1e6, speed: Math.hypot(o.velocity[0], o.velocity[1]), heading: deg(o.orientation[2]),
-                  speed_sp: sp.speed, heading_sp: sp.heading });
-  while (st.plots.length && st.plots[0].t < st.t / 1e6 - PLOT_S) st.plots.shift();
-}
-
 function pill(id, text, cls) { const p = $(id); p.textContent = text; p.className = 'pill ' + cls; }
 
 function render() {
@@ -111,11 +102,12 @@ function render() {
   pill('armed', arm ? (arm.armed ? 'ARMED' : 'disarmed') : 'arm ?', arm ? (arm.armed ? 'bad' : 'ok') : '');
   $('armreason').textContent = arm ? arm.reason : '-';
   const tc = msg('TILLER_THRUSTER_COMMAND');
-  const gates = ['DISARMED', 'WAIT_NEUTRAL', 'ACTIVE', 'INPUT_LOST'];
-  pill('gate', tc ? 'gate ' + gates[tc.gate] : 'gate ?', tc ? (tc.gate === 2 ? 'warn' : '') : '');
+  const gates = ['DISARMED', 'WAIT_NEUTRAL', 'ACTIVE', 'INPUT_LOST', 'TEST'];
+  pill('gate', tc ? 'gate ' + gates[tc.gate] : 'gate ?', tc ? (tc.gate === 2 || tc.gate === 4 ? 'warn' : '') : '');
   $('hold').textContent = tc && tc.hold ? tc.hold : '-';
   const arb = msg('TILLER_ARBITRATION'), mode = msg('TILLER_MODE');
-  const modes = ['MANUAL_OPEN_LOOP', 'MANUAL_CLOSED_LOOP', 'WAYPOINTING'];
+  const modes = ['MANUAL_OPEN_LOOP', 'MANUAL_CLOSED_LOOP', 'WAYPOINTING', 'STABILISE', 'DEPTH_HOLD',
+    'HEADING_HOLD', 'RATE', 'SURFACE', 'POSITION_HOLD'];
   pill('mode', 'mode ' + (mode ? modes[mode.mode] : '?'), '');
   const vs = msg('TILLER_VEHICLE_STATUS');
   pill('failsafe', vs ? (vs.active ? 'FAILSAFE: ' + vs.reason : 'no failsafe') : 'failsafes: no monitor', vs && vs.active ? 'bad' : '');
@@ -142,8 +134,9 @@ function render() {
   renderHealth();
   renderPad();
   drawMap();
-  drawPlot($('plot_speed'), 'speed', 'speed_sp', null);
-  drawPlot($('plot_heading'), 'heading', 'heading_sp', [0, 360]);
+  drawAttitude();
+  renderTest(tc);
+  drawPlots();
 }
 
 function renderThrusters(tc) {
@@ -248,32 +241,6 @@ function drawMap() {
   $('mapinfo').textContent = o ? `vehicle at N ${fmt(o.position[0], 1)} E ${fmt(o.position[1], 1)} m` : '';
 }
 
-function drawPlot(cv, key, spKey, fixed) {
-  fit(cv);
-  const g = cv.getContext('2d'), W = cv.width, H = cv.height;
-  g.clearRect(0, 0, W, H);
-  const d = st.plots;
-  if (d.length < 2) return;
-  const t1 = d[d.length - 1].t, t0 = t1 - PLOT_S;
-  let lo = Infinity, hi = -Infinity;
-  for (const p of d) for (const v of [p[key], p[spKey]]) if (v !== null) { lo = Math.min(lo, v); hi = Math.max(hi, v); }
-  if (fixed) { lo = fixed[0]; hi = fixed[1]; }
-  if (hi - lo < 0.5) { hi += 0.25; lo -= 0.25; }
-  const X = (t) => ((t - t0) / PLOT_S) * (W - 40) + 40, Y = (v) => H - 14 - ((v - lo) / (hi - lo)) * (H - 24);
-  g.fillStyle = '#778'; g.fillText(fmt(hi, 1), 2, 12); g.fillText(fmt(lo, 1), 2, H - 14); g.fillText(key, W - 60, 12);
-  const line = (k, colour, dash) => {
-    g.strokeStyle = colour; g.setLineDash(dash); g.beginPath(); let pen = false;
-    for (const p of d) {
-      if (p[k] === null) { pen = false; continue; }
-      if (pen && key === 'heading' && Math.abs(p[k] - prev) > 180) pen = false;
-      (pen ? g.lineTo : g.moveTo).call(g, X(p.t), Y(p[k])); pen = true; var prev = p[k];
-    }
-    g.stroke(); g.setLineDash([]);
-  };
-  line(spKey, '#c9a227', [5, 4]);
-  line(key, '#4aa3ff', []);
-}
-
 // ---- gamepad: the page is a pilot source; it sends its axes every period while visible
 let padSending = false;
 function renderPad() {
@@ -302,6 +269,7 @@ function padTick() {
   } else {
     $('padinfo').textContent = 'none (press a button on the gamepad)';
   }
+  renderCalibration(pad);
   if (!token || !ws || ws.readyState !== 1) { padSending = false; return; }
   if (pad && visible) {
     send({ type: 'gamepad', connected: true, axes: Array.from(pad.axes) });
