@@ -22,7 +22,7 @@
 using namespace tiller;
 
 namespace {
-const char* kSimFlags[] = {"seed",        "north",         "east",
+const char* kSimFlags[] = {"odometry", "sensors", "gnss-outage", "seed", "north", "east",
                            "heading-deg", "current-speed", "current-toward-deg"};
 
 app::Spec spec() {
@@ -41,7 +41,7 @@ app::Spec spec() {
        {"control", "FILE", "controller config (default: config/control/VEHICLE.yaml)", ""},
        {"guidance", "FILE", "path follower config (default: config/guidance/VEHICLE.yaml)", ""},
        {"set", "LIST",
-        "config settings FILE.KEY=VALUE[,...] (FILE: sim, esc, mixer, control, guidance)", ""},
+        "config settings FILE.KEY=VALUE[,...] (FILE: sim, esc, mixer, control, guidance, nav)", ""},
        {"hold-s", "S", "station keeping after completion, s >= 0 (default: the mission's)", ""},
        {"time-limit-s", "S", "simulated time limit, s > 0 (default: the mission's)", ""},
        {"log", "FILE", "write the run's LCM log here (and FILE's .replay.yaml)", ""},

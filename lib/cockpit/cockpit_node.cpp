@@ -8,6 +8,7 @@
 #include <cstdio>
 #include <exception>
 #include <nlohmann/json.hpp>
+#include <utility>
 
 #include <tiller/allocation_status_t.hpp>
 #include <tiller/arbitration_t.hpp>
@@ -480,16 +481,29 @@ void CockpitNode::command(int client, std::string_view text, TimeUs now) {
   if (cmd == "mode") {
     const json* mode = member(j, "mode");
     const std::string m = mode && mode->is_string() ? mode->get<std::string>() : "";
+    // Every controller_mode_t constant (the ROV modes go to tiller-rov-control).
+    static constexpr std::pair<const char*, std::int8_t> kModes[] = {
+        {"MANUAL_OPEN_LOOP", controller_mode_t::MANUAL_OPEN_LOOP},
+        {"MANUAL_CLOSED_LOOP", controller_mode_t::MANUAL_CLOSED_LOOP},
+        {"WAYPOINTING", controller_mode_t::WAYPOINTING},
+        {"STABILISE", controller_mode_t::STABILISE},
+        {"DEPTH_HOLD", controller_mode_t::DEPTH_HOLD},
+        {"HEADING_HOLD", controller_mode_t::HEADING_HOLD},
+        {"RATE", controller_mode_t::RATE},
+        {"SURFACE", controller_mode_t::SURFACE},
+        {"POSITION_HOLD", controller_mode_t::POSITION_HOLD}};
     controller_mode_t c{};
-    if (m == "MANUAL_OPEN_LOOP") {
-      c.mode = controller_mode_t::MANUAL_OPEN_LOOP;
-    } else if (m == "MANUAL_CLOSED_LOOP") {
-      c.mode = controller_mode_t::MANUAL_CLOSED_LOOP;
-    } else if (m == "WAYPOINTING") {
-      c.mode = controller_mode_t::WAYPOINTING;
-    } else {
+    bool known = false;
+    for (const auto& [name, value] : kModes) {
+      if (m == name) {
+        c.mode = value;
+        known = true;
+      }
+    }
+    if (!known) {
       refuse(client, cmd, *bad_command_,
-             "mode: expected MANUAL_OPEN_LOOP, MANUAL_CLOSED_LOOP or WAYPOINTING");
+             "mode: expected one of MANUAL_OPEN_LOOP, MANUAL_CLOSED_LOOP, WAYPOINTING, STABILISE, "
+             "DEPTH_HOLD, HEADING_HOLD, RATE, SURFACE, POSITION_HOLD");
       return;
     }
     const json* tr = member(j, "is_translation");

@@ -3,6 +3,7 @@
 #include <tiller/path_progress_t.hpp>
 #include <tiller/velocity_setpoint_t.hpp>
 
+#include <algorithm>
 #include <cmath>
 
 #include <filesystem>
@@ -22,6 +23,7 @@
 #include "mission/mission.hpp"
 #include "mission/mission_node.hpp"
 #include "mixer/mixer_node.hpp"
+#include "nav/nav_node.hpp"
 #include "runtime/app.hpp"
 #include "runtime/channels.hpp"
 #include "runtime/lockstep.hpp"
@@ -42,7 +44,7 @@ Setting parse_setting(const std::string& text) {
                              ", e.g. control.velocity_pid.yaw.k_error=40), got '" + text + "'");
   Setting s{text.substr(0, dot), text.substr(dot + 1, eq - dot - 1), text.substr(eq + 1)};
   bool known = false;
-  for (const char* f : {"sim", "esc", "mixer", "control", "guidance"}) known |= s.file == f;
+  for (const char* f : {"sim", "esc", "mixer", "control", "guidance", "nav"}) known |= s.file == f;
   if (!known)
     throw std::runtime_error("'" + text + "': expected the file to be one of " +
                              std::string(kSettingFiles) + ", got '" + s.file + "'");
@@ -94,17 +96,37 @@ RunOutcome run(const RunSpec& spec) {
   const auto m = mission::load_mission_file(f.mission);
 
   // tiller-sim with --vehicle, --mission and the given options, as the launch file starts it.
+  // On estimated state without --sensors: the vehicle kind's simulated sensors.
+  const SimVehicle sv = load_sim_vehicle_file(f.vehicle);
+  const bool surface = sv.dynamics.kind == sim::ModelKind::kSurface3Dof;
   std::vector<std::string> args = {"--vehicle", f.vehicle, "--mission", f.mission};
   args.insert(args.end(), spec.sim_args.begin(), spec.sim_args.end());
+  const auto has = [&](const char* flag) {
+    return std::find(spec.sim_args.begin(), spec.sim_args.end(), flag) != spec.sim_args.end();
+  };
+  if (has("--odometry") && !has("--sensors")) {
+    args.push_back("--sensors");
+    args.push_back(
+        app::resolve_path(surface ? "config/sim/sensors/usv.yaml" : "config/sim/sensors/rov.yaml"));
+  }
   const SimOverrides so = sim_overrides(args);
   const auto sroot = load(f.sim, "sim", spec.settings);
   SimParams sp = load_sim_params(sroot);
   sroot.check_all_used();
   apply(so, sp);
+  out.estimated = !sp.publish_odometry;
   out.start_north = sp.initial_eta[0];
   out.start_east = sp.initial_eta[1];
   out.start_heading = sp.initial_eta[5];
-  SimNode sim(sp, load_sim_vehicle_file(sp.vehicle_file));
+  SimNode sim(sp, sv);
+  std::unique_ptr<nav::NavNode> navn;
+  if (out.estimated) {
+    out.files.nav =
+        existing(spec.nav_file, surface ? "config/nav/usv_sim.yaml" : "config/nav/rov.yaml", "nav");
+    const auto nroot = load(out.files.nav, "nav", spec.settings);
+    navn = std::make_unique<nav::NavNode>(nav::load_nav_params(nroot));
+    nroot.check_all_used();
+  }
 
   const esc::EscConfig ec = esc::load_esc_config(load(f.esc, "esc", spec.settings));
   if (ec.backend != "sim")
@@ -133,7 +155,9 @@ RunOutcome run(const RunSpec& spec) {
 
   // The order of the closed-loop harness (test/autonomy/harness.cpp): plant, then autonomy.
   LockstepExecutor ex(0);
-  for (Node* n : std::initializer_list<Node*>{&sim, &esc, &mixer, &mnode, &follower, &vpid, &skeep})
+  ex.add(sim);
+  if (navn) ex.add(*navn);  // the estimator right after the plant, as the sensors' consumer
+  for (Node* n : std::initializer_list<Node*>{&esc, &mixer, &mnode, &follower, &vpid, &skeep})
     ex.add(*n);
 
   std::unique_ptr<LogWriter> log;
@@ -179,7 +203,7 @@ RunOutcome run(const RunSpec& spec) {
 }
 
 std::string replay_manifest(const RunSpec& spec, const RunFiles& f) {
-  if (!spec.settings.empty()) return "";
+  if (!spec.settings.empty() || !f.nav.empty()) return "";
   std::ostringstream os;
   os << "# Written by tiller-run: the config of each process of this lockstep run.\n"
      << "# A lockstep log: replay must match bit for bit, heartbeats included.\n"

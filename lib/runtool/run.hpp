@@ -10,6 +10,11 @@
 // mission's time_limit_s. Same spec, same messages, bit for bit (no clock, seeded randomness).
 // The vehicle starts at the mission's start: pose (tiller-sim --mission); sim_args (tiller-sim's
 // options: --current-speed, --current-toward-deg, --seed, --north, ...) win over it.
+// On estimated state (sim_args "--odometry estimated") the simulator publishes its sensors
+// (--sensors, default config/sim/sensors/usv.yaml or _rov.yaml by the vehicle's kind) and no
+// odometry, and tiller-nav's NavNode (nav_file, default config/nav/usv_sim.yaml or
+// rov.yaml; usv_sim.yaml has the simulator's datum) makes TILLER_ODOMETRY from them; the scores add
+// the estimation error against the ground truth.
 #pragma once
 
 #include <optional>
@@ -30,7 +35,7 @@ struct Setting {
 // Parses FILE.KEY=VALUE; throws std::runtime_error naming what is wrong.
 Setting parse_setting(const std::string& text);
 // The config files a setting can name.
-inline constexpr const char* kSettingFiles = "sim, esc, mixer, control, guidance";
+inline constexpr const char* kSettingFiles = "sim, esc, mixer, control, guidance, nav";
 
 struct RunSpec {
   std::string mission_file;  // YAML or CSV
@@ -40,6 +45,7 @@ struct RunSpec {
   // config/control/<vehicle>.yaml, config/guidance/<vehicle>.yaml (<vehicle>: the vehicle
   // file's name without .yaml), as config/launch/sim_usv_mission.yaml names them for the Otter.
   std::string esc_file, mixer_file, control_file, guidance_file;
+  std::string nav_file;  // estimated state only; empty: config/nav/usv_sim.yaml or rov.yaml
   std::vector<std::string> sim_args;  // tiller-sim options on top ("--current-speed", "0.3", ...)
   std::vector<Setting> settings;
   double hold_s = -1;        // s of station keeping after completion; < 0: the mission's
@@ -50,6 +56,7 @@ struct RunSpec {
 // The files a run uses, defaults filled in and resolved (app::resolve_path).
 struct RunFiles {
   std::string mission, vehicle, sim, esc, mixer, control, guidance;
+  std::string nav;  // on estimated state
 };
 // Throws std::runtime_error naming a file that does not exist and the option that sets it.
 RunFiles resolve_files(const RunSpec& spec);
@@ -64,6 +71,7 @@ struct RunOutcome {
   double max_setpoint_speed = 0;  // m/s: largest |velocity| of an active TILLER_VELOCITY_SETPOINT
   double max_speed = 0;           // m/s: the follower's max_speed (guidance config)
   double start_north = 0, start_east = 0, start_heading = 0;  // where the vehicle started
+  bool estimated = false;                                     // flown on tiller-nav's odometry
 };
 
 // Runs it. Config errors throw config::Error (file, line, key); others std::runtime_error.
@@ -71,7 +79,8 @@ RunOutcome run(const RunSpec& spec);
 
 // The replay manifest for a logged run (tiller-replay LOG finds LOG's .replay.yaml): each
 // process with its config file and the simulator's options. Empty when settings changed a
-// config in memory (a replay from the files would compare another controller).
+// config in memory (a replay from the files would compare another controller), or when the run
+// flew on estimated state (tiller-replay does not replay tiller-nav).
 std::string replay_manifest(const RunSpec& spec, const RunFiles& files);
 
 }  // namespace tiller::runtool

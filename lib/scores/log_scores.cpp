@@ -4,7 +4,11 @@
 #include <tiller/path_progress_t.hpp>
 #include <tiller/path_t.hpp>
 
+#include <algorithm>
+#include <cmath>
 #include <stdexcept>
+
+#include "core/angles.hpp"
 
 namespace tiller::scores {
 
@@ -20,6 +24,7 @@ RunScores score_events(const std::vector<Event>& events, const std::vector<Goal>
   path_t p;
   odometry_t o;
   path_progress_t pr;
+  std::vector<Pose> estimate;  // TILLER_ODOMETRY when the pose is the truth
   for (const auto& e : events) {
     const double t = to_seconds(e.time);
     if (e.channel == "TILLER_PATH" && start < 0) {
@@ -32,6 +37,8 @@ RunScores score_events(const std::vector<Event>& events, const std::vector<Goal>
       }
     } else if (e.channel == r.pose_channel) {
       if (decode(e, o)) r.poses.push_back({t, o.position[0], o.position[1], o.orientation[2]});
+    } else if (have_truth && e.channel == "TILLER_ODOMETRY") {
+      if (decode(e, o)) estimate.push_back({t, o.position[0], o.position[1], o.orientation[2]});
     } else if (e.channel == "TILLER_PATH_PROGRESS" && !complete_at) {
       if (decode(e, pr) && pr.complete && pr.path_id == path_id) complete_at = t;
     }
@@ -44,6 +51,7 @@ RunScores score_events(const std::vector<Event>& events, const std::vector<Goal>
   r.path = path_as_followed(path, r.poses, start);
   r.path_scores = score_path(r.poses, r.path, start, complete_at);
   r.samples = r.poses.size();
+  if (have_truth) score_estimation(estimate, r.poses, r);
   r.start = start;
   r.end = r.poses.back().t;
   if (r.path_scores.time_to_complete >= 0) {
@@ -52,6 +60,33 @@ RunScores score_events(const std::vector<Event>& events, const std::vector<Goal>
     r.station_keeping_s = r.end - t0;
   }
   return r;
+}
+
+void score_estimation(const std::vector<Pose>& estimate, const std::vector<Pose>& truth,
+                      RunScores& r) {
+  double sp = 0, sh = 0, mp = 0;
+  std::size_t n = 0, j = 0;
+  for (const Pose& e : estimate) {
+    if (truth.size() < 2 || e.t < truth.front().t || e.t > truth.back().t) continue;
+    while (j + 2 < truth.size() && truth[j + 1].t < e.t) ++j;
+    const Pose& a = truth[j];
+    const Pose& b = truth[j + 1];
+    const double f = b.t > a.t ? std::clamp((e.t - a.t) / (b.t - a.t), 0.0, 1.0) : 0.0;
+    const double north = a.north + f * (b.north - a.north);
+    const double east = a.east + f * (b.east - a.east);
+    const double heading = wrap_pi(a.heading + f * wrap_pi(b.heading - a.heading));
+    const double dp = std::hypot(e.north - north, e.east - east);
+    const double dh = wrap_pi(e.heading - heading);
+    sp += dp * dp;
+    sh += dh * dh;
+    mp = std::max(mp, dp);
+    ++n;
+  }
+  r.estimation_samples = n;
+  if (n == 0) return;
+  r.position_error_rms = std::sqrt(sp / static_cast<double>(n));
+  r.position_error_max = mp;
+  r.heading_error_rms = std::sqrt(sh / static_cast<double>(n));
 }
 
 void print_scores(const RunScores& r, std::FILE* out) {
@@ -70,6 +105,13 @@ void print_scores(const RunScores& r, std::FILE* out) {
     std::fprintf(out, "final heading err   %.3f rad\n", s.final_heading_error);
   std::fprintf(out, "VRX wayfinding      %.3f (mean over %d waypoints%s)\n", s.vrx_wayfinding,
                s.wayfinding_points, s.start_excluded ? ", the start point left out" : "");
+  if (r.estimation_samples > 0 && r.position_error_max > 0) {  // not on truth odometry
+    std::fprintf(out,
+                 "estimation error    position RMS %.3f m (max %.3f m), heading RMS %.2f deg "
+                 "(TILLER_ODOMETRY vs truth, %zu samples)\n",
+                 r.position_error_rms, r.position_error_max, r.heading_error_rms * 180.0 / M_PI,
+                 r.estimation_samples);
+  }
   if (s.time_to_complete >= 0) {
     std::fprintf(out, "VRX station keeping %.3f (from completion to the end of the log, %.0f s)\n",
                  r.station_keeping, r.station_keeping_s);

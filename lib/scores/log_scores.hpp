@@ -26,7 +26,18 @@ struct RunScores {
   double station_keeping = -1;   // VRX station keeping from completion to the end; -1: none
   double station_keeping_s = 0;  // s of it
   std::vector<Pose> poses;       // the poses scored
+  // With both TILLER_ODOMETRY and TILLER_GROUND_TRUTH (a simulated run on estimated state):
+  // each odometry sample against the truth interpolated to its time (within the truth's span).
+  std::size_t estimation_samples = 0;
+  double position_error_rms = -1, position_error_max = -1;  // m, horizontal
+  double heading_error_rms = -1;                            // rad
 };
+
+// The estimation error of `estimate` against `truth` (both in time order): RMS and largest
+// horizontal position error, RMS heading error (wrapped), over the estimates within the truth's
+// time span. Fills the estimation_* fields of `r`.
+void score_estimation(const std::vector<Pose>& estimate, const std::vector<Pose>& truth,
+                      RunScores& r);
 
 // The events in time order (a log, or what a lockstep run published). `mission_path`: the
 // waypoints to score against (empty: the first TILLER_PATH's). Throws std::runtime_error when

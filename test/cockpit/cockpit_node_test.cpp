@@ -308,6 +308,22 @@ TEST(CockpitNode, MissionLoadStartAndErrorsWithLineAndKey) {
   EXPECT_EQ(r.bus.on<path_t>(channels::kPath).size(), n);
 }
 
+// Every controller_mode_t constant can be asked for by name, the ROV modes included.
+TEST(CockpitNode, ModeCommandsCoverTheRovModes) {
+  Rig r;
+  r.send(1, {{"type", "mode"}, {"mode", "DEPTH_HOLD"}}, 1'000);
+  r.send(1, {{"type", "mode"}, {"mode", "POSITION_HOLD"}}, 2'000);
+  r.send(1, {{"type", "mode"}, {"mode", "WAYPOINTING"}, {"is_translation", true}}, 3'000);
+  const auto modes = r.bus.on<controller_mode_t>(channels::kMode);
+  ASSERT_EQ(modes.size(), 3u);
+  EXPECT_EQ(modes[0].mode, 4);  // controller_mode_t.lcm: DEPTH_HOLD = 4
+  EXPECT_EQ(modes[1].mode, 8);  // POSITION_HOLD = 8
+  EXPECT_EQ(modes[2].mode, 2);  // WAYPOINTING = 2
+  EXPECT_TRUE(modes[2].is_translation);
+  EXPECT_EQ(modes[0].source, "cockpit");
+  EXPECT_EQ(r.node.counter_value("rejected.command.malformed"), 0);
+}
+
 TEST(CockpitNode, MalformedAndUnknownCommandsAreRefused) {
   Rig r;
   r.node.command(1, "{not json", 1'000);

@@ -90,6 +90,33 @@ TEST(RunTool, CurrentFlagsGiveTheHarnessNumbersInACurrent) {
       1e-3);
 }
 
+// On estimated state the whole Otter stack flies on tiller-nav's odometry, made from the
+// simulated GNSS (2.5 m CEP, 5 Hz), IMU and heading; it completes the default mission, the
+// scores carry the estimation error against the truth (measured here: position RMS 0.83 m, the
+// issue's target 0.5 m not met yet). A 20 s GNSS outage from 20 s: dead reckoning, then the
+// velocity goes invalid (13 s in), the velocity PID's wrench invalid, the mixer neutral and
+// disarmed (input lost): the boat stops, it does not resume by itself when fixes return.
+TEST(RunTool, EstimatedStateFliesTheMissionThroughA20sGnssOutage) {
+  RunSpec s = default_spec();
+  s.sim_args = {"--odometry", "estimated"};
+  const auto o = run(s);
+  ASSERT_TRUE(o.estimated);
+  ASSERT_TRUE(o.completed);
+  EXPECT_EQ(o.scores.path_scores.waypoints_reached, 5);
+  EXPECT_GT(o.scores.estimation_samples, 1000u);
+  EXPECT_GT(o.scores.position_error_rms, 0.05);          // an estimate, not the truth
+  EXPECT_LT(o.scores.position_error_rms, 1.5);           // m; measured 0.83
+  EXPECT_LT(o.scores.heading_error_rms, 0.035);          // rad (2 deg); measured 0.9 deg
+  EXPECT_LT(o.scores.path_scores.cross_track_rms, 1.2);  // m; 0.17 on the truth, 0.52 measured
+  EXPECT_TRUE(replay_manifest(s, o.files).empty());      // tiller-replay does not replay tiller-nav
+
+  s.sim_args = {"--odometry", "estimated", "--gnss-outage", "20:20"};
+  const auto out = run(s);
+  EXPECT_FALSE(out.completed);  // stopped, disarmed: needs the operator's re-arm and resume
+  EXPECT_LT(out.scores.position_error_max, 15.0);  // m: dead reckoning drifts, bounded
+  EXPECT_GT(out.scores.position_error_max, o.scores.position_error_max);
+}
+
 TEST(RunTool, TheMissionStartIsWhereTheBoatStarts) {
   const std::string m = tmp("start.yaml");
   std::ofstream(m) << "name: start\nstart: {north: 5, east: -3, heading_deg: 90}\n"

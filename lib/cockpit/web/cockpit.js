@@ -102,11 +102,12 @@ function render() {
   pill('armed', arm ? (arm.armed ? 'ARMED' : 'disarmed') : 'arm ?', arm ? (arm.armed ? 'bad' : 'ok') : '');
   $('armreason').textContent = arm ? arm.reason : '-';
   const tc = msg('TILLER_THRUSTER_COMMAND');
-  const gates = ['DISARMED', 'WAIT_NEUTRAL', 'ACTIVE', 'INPUT_LOST'];
-  pill('gate', tc ? 'gate ' + gates[tc.gate] : 'gate ?', tc ? (tc.gate === 2 ? 'warn' : '') : '');
+  const gates = ['DISARMED', 'WAIT_NEUTRAL', 'ACTIVE', 'INPUT_LOST', 'TEST'];
+  pill('gate', tc ? 'gate ' + gates[tc.gate] : 'gate ?', tc ? (tc.gate === 2 || tc.gate === 4 ? 'warn' : '') : '');
   $('hold').textContent = tc && tc.hold ? tc.hold : '-';
   const arb = msg('TILLER_ARBITRATION'), mode = msg('TILLER_MODE');
-  const modes = ['MANUAL_OPEN_LOOP', 'MANUAL_CLOSED_LOOP', 'WAYPOINTING'];
+  const modes = ['MANUAL_OPEN_LOOP', 'MANUAL_CLOSED_LOOP', 'WAYPOINTING', 'STABILISE', 'DEPTH_HOLD',
+    'HEADING_HOLD', 'RATE', 'SURFACE', 'POSITION_HOLD'];
   pill('mode', 'mode ' + (mode ? modes[mode.mode] : '?'), '');
   const vs = msg('TILLER_VEHICLE_STATUS');
   pill('failsafe', vs ? (vs.active ? 'FAILSAFE: ' + vs.reason : 'no failsafe') : 'failsafes: no monitor', vs && vs.active ? 'bad' : '');
