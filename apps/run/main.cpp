@@ -22,7 +22,8 @@
 using namespace tiller;
 
 namespace {
-const char* kSimFlags[] = {"odometry", "sensors", "gnss-outage", "seed", "north", "east",
+const char* kSimFlags[] = {"odometry",    "sensors",       "gnss-outage",
+                           "seed",        "north",         "east",
                            "heading-deg", "current-speed", "current-toward-deg"};
 
 app::Spec spec() {
