@@ -8,6 +8,7 @@
 // drops (t2: the filter has taken the fix; between fixes the variance only grows).
 // Prints the count and the median, 90th percentile and maximum of t1 - t0 and t2 - t0.
 #include <gps.h>
+#include <net/if.h>
 #include <signal.h>
 #include <spawn.h>
 #include <sys/wait.h>
@@ -89,9 +90,27 @@ void print(const char* what, std::vector<double> v) {
               v[v.size() * 9 / 10], v.back(), v.size());
 }
 
+// True when the only network interface is the loopback (a private namespace, tools/netns-run):
+// the processes this tool starts open LCM on their default udpm:// URL.
+bool only_loopback() {
+  struct if_nameindex* ifs = if_nameindex();  // of this process's network namespace
+  if (ifs == nullptr) return false;
+  bool only_lo = true;
+  for (const struct if_nameindex* i = ifs; i->if_index != 0; ++i)
+    only_lo = only_lo && std::string(i->if_name) == "lo";
+  if_freenameindex(ifs);
+  return only_lo;
+}
+
 }  // namespace
 
 int main(int argc, char** argv) {
+  if (!only_loopback()) {
+    std::fprintf(stderr,
+                 "nav_gnss_latency: this network namespace has interfaces besides lo; run it "
+                 "under tools/netns-run (LCM traffic must not leave the machine)\n");
+    return 2;
+  }
   const double seconds = argc > 1 ? std::atof(argv[1]) : 20.0;
   const std::string src = TILLER_SOURCE_DIR, bin = TILLER_BIN_DIR;
   const std::string port = "29473";
