@@ -101,10 +101,11 @@ RunOutcome run(const RunSpec& spec) {
   const bool surface = sv.dynamics.kind == sim::ModelKind::kSurface3Dof;
   std::vector<std::string> args = {"--vehicle", f.vehicle, "--mission", f.mission};
   args.insert(args.end(), spec.sim_args.begin(), spec.sim_args.end());
-  const auto has = [&](const char* flag) {
-    return std::find(spec.sim_args.begin(), spec.sim_args.end(), flag) != spec.sim_args.end();
-  };
-  if (has("--odometry") && !has("--sensors")) {
+  const auto& a = spec.sim_args;
+  const auto odometry = std::find(a.begin(), a.end(), "--odometry");
+  const bool estimated =
+      odometry != a.end() && odometry + 1 != a.end() && odometry[1] == "estimated";
+  if (estimated && std::find(a.begin(), a.end(), "--sensors") == a.end()) {
     args.push_back("--sensors");
     args.push_back(
         app::resolve_path(surface ? "config/sim/sensors/usv.yaml" : "config/sim/sensors/rov.yaml"));
