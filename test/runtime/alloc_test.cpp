@@ -24,5 +24,21 @@ TEST(Allocation, LockstepSteadyStateAllocatesNothing) {
   EXPECT_GT(c.received(), 1000);
 }
 
+// The live executor counts missed ticks when a loaded machine makes it fall behind, which can
+// first happen long after a warm-up: that first miss must not allocate (the counter was made
+// lazily on it, which made runtime_live_alloc_test fail under load: 1-5 allocations).
+TEST(Allocation, FirstMissedTickAfterWarmUpAllocatesNothing) {
+  test::ToyController c;
+  for (int i = 0; i < 100; ++i) c.count_missed_ticks(0);  // warm-up: on time
+  const long before = test::allocations();
+  c.count_missed_ticks(3);
+  c.count_missed_ticks(0);
+  c.count_missed_ticks(2);
+  const long after = test::allocations();
+  EXPECT_EQ(after - before, 0) << "heap allocations counting the first missed ticks";
+  EXPECT_EQ(c.counter_value("ticks.missed"), 5);
+  EXPECT_EQ(c.counter_value("ticks.run"), 103);
+}
+
 }  // namespace
 }  // namespace tiller
