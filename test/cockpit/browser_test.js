@@ -216,8 +216,8 @@ async function rov(browser) {
     await ctx.addInitScript(fakePad);
     const page = await ctx.newPage();
     await page.goto(`http://127.0.0.1:8088/#token=${token()}`);
-    await until(() => state(page, () => st.health.length === 4 && st.health.every((h) => h.state === 'OK')), 10000,
-                'ROV: every process OK (sim, esc, mixer, rov-control)');
+    await until(() => state(page, () => st.health.length === 5 && st.health.every((h) => h.state === 'OK')), 10000,
+                'ROV: every process OK (sim, esc, mixer, rov-control, failsafe)');
     // An observer page (no token, no gamepad) watches the thruster commands.
     const obs = await (await browser.newContext()).newPage();
     await obs.goto('http://127.0.0.1:8088/');
