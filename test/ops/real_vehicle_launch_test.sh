@@ -3,7 +3,9 @@
 # tiller-esc at the dry-run configs (they print the bus bytes instead of writing them) and
 # JOYSTICK at a FIFO (unused: the pilot's teleop runs on the topside computer,
 # topside_<vehicle>_rov.yaml). In the test's network namespace (tools/netns-run). Checks that
-# every process comes up (logger, esc, mixer running; no teleop on the vehicle computer),
+# every process comes up (logger, esc, mixer, failsafe, nav and the sensor drivers running, the
+# drivers' heartbeats naming the missing bus and address or GPIO line; no teleop on the vehicle
+# computer),
 # the dry run prints the neutral writes (seed 000: throttle 0 to each BlueESC; seed 001: 1500 us,
 # 0x0133 counts, on each PCA9685 channel), the log rotates under its fixed name with a replay
 # manifest, and SIGTERM stops everything (exit 0, no process of the run left). The vehicle key
@@ -29,7 +31,7 @@ wait_for() {
 }
 all_running() {
   "$bin/tiller-launch" status "$1" --status-file "$2" > "$2.now" 2>/dev/null || return 1
-  for p in logger esc mixer; do
+  for p in logger esc mixer failsafe nav pressure imu leak power; do
     grep -Eq "^$p +[a-z]+ +running" "$2.now" || return 1
   done
 }
@@ -83,6 +85,19 @@ for vehicle in seed000 seed001; do
   [ -s "$dir/logs/$name.lcmlog.0" ] || { echo "FAIL: $file: no rotated log $dir/logs/$name.lcmlog.0"; ls "$dir/logs"; fail=1; }
   grep -q "program: \"tiller-esc\"" "$dir/logs/$name.replay.yaml" 2>/dev/null ||
     { echo "FAIL: $file: no replay manifest next to the log"; fail=1; }
+  # No hardware here: each sensor driver still runs (checked above) and its heartbeat names the
+  # bus and address, or the GPIO chip and line; tiller-nav and tiller-failsafe report too.
+  for hb in PRESSURE:"ms5837-30ba on /dev/i2c-1 at 0x76" IMU:"bno055 on /dev/i2c-1 at 0x28" \
+            POWER:"ina226 on /dev/i2c-1 at 0x41" LEAK:"probe main_tube (gpiochip0 line 27" NAV: FAILSAFE:; do
+    ch=${hb%%:*}; want=${hb#*:}
+    last=$("$bin/tiller-log" csv "$dir/logs/$name.lcmlog.0" "TILLER_HEARTBEAT_$ch" --fields state,status 2>/dev/null | tail -1)
+    echo "$file: TILLER_HEARTBEAT_$ch (last): $last"
+    case "$last" in
+      t_s,*|"") echo "FAIL: $file: no TILLER_HEARTBEAT_$ch in the log"; fail=1;;
+      *"$want"*) ;;
+      *) echo "FAIL: $file: TILLER_HEARTBEAT_$ch does not say '$want'"; fail=1;;
+    esac
+  done
   grep -v '^logger' "$dir/out" | tail -12
 done
 [ $fail -eq 0 ] && echo "real_vehicle_launch_test: ok"
