@@ -57,6 +57,7 @@ FailsafeNodeParams load_failsafe_params(const config::Value& root) {
         b->choice_or("critical_action", "hold", {"hold", "surface", "neutral", "disarm"}));
     r.disarm_after = b->has("disarm_after_s") ? seconds(*b, "disarm_after_s", 60, 86400) : -1;
     r.stale = seconds(*b, "stale_s", 2.0, 600);
+    r.resistance_ohm = b->number_or("resistance_ohm", 0.0, {0, 1});
   }
   if (auto l = root.find("leak")) {
     LeakParams& r = m.leak;

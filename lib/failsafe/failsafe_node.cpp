@@ -46,7 +46,8 @@ void FailsafeNode::on_power(const power_t& m, TimeUs now) {
     return;
   }
   power_at_ = now;
-  monitor_.on_power(m.voltage, now);
+  // V + I R: the resting voltage when the pack's resistance is configured (sag compensated).
+  monitor_.on_power(m.voltage + m.current * p_.monitor.battery.resistance_ohm, now);
 }
 
 void FailsafeNode::on_leak(const leak_t& m, TimeUs now) {

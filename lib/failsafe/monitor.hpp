@@ -61,6 +61,10 @@ struct BatteryParams {
   Action critical_action = Action::kHold;
   TimeUs disarm_after = 60'000'000;  // after critical; < 0: never
   TimeUs stale = 2'000'000;          // power_t older than this: no reading (reported, no action)
+  // The pack's internal resistance (ohm): > 0 compares the sag-compensated (resting) voltage
+  // V + I R instead of the bus voltage V, so a burst of full thrust is not a low battery (as
+  // ArduPilot's BATT_FS_VOLTSRC = 1). 0: the bus voltage as read. Used by FailsafeNode.
+  double resistance_ohm = 0;
 };
 struct LeakParams {
   bool enabled = false;

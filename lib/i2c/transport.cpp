@@ -28,6 +28,12 @@ std::string describe_errno(int err) {
       return "EBUSY (a kernel driver owns that address)";
     case ENODEV:
       return "ENODEV (the bus adapter went away)";
+    case ENOENT:
+      return "ENOENT (no such I2C bus: is the i2c-dev module loaded? `ls /dev/i2c-*`)";
+    case EACCES:
+      return "EACCES (no permission on the I2C bus: the user needs the `i2c` group)";
+    case EOPNOTSUPP:
+      return "EOPNOTSUPP (the adapter does not do plain I2C transfers)";
     default:
       return std::string(std::strerror(err));
   }

@@ -1,6 +1,7 @@
 #!/bin/sh
 # The main job's mission completes inside a private network namespace (tools/main-job runs its
 # stack under tools/netns-run, as in CI): exit 0, every waypoint reached, a log and a PNG plot,
+# tiller-failsafe's heartbeat OK and no failsafe event in the log,
 # and its log replays through today's code with the launcher's manifest (PASS unchanged, FAIL
 # with a changed gain).
 # About 100 s of wall time (the default mission flies in real time). And it fails loudly (exit 1,
@@ -19,6 +20,17 @@ log=$(echo "$out" | sed -n 's/^tiller: log  //p')
 png=$(echo "$out" | sed -n 's/^tiller: plot //p')
 [ -s "$log" ] || { echo "FAIL: no log at '$log'"; fail=1; }
 [ -s "$png" ] && head -c 4 "$png" | grep -q PNG || { echo "FAIL: no PNG at '$png'"; fail=1; }
+# tiller-failsafe runs in the main job on the simulated sensors (issue 14 item 6) and a healthy run
+# trips nothing: its heartbeat is in the log and ends OK ("no failsafe event"), and every
+# TILLER_VEHICLE_STATUS has no latched event and no action.
+hb=$("$build/bin/tiller-log" csv "$log" TILLER_HEARTBEAT_FAILSAFE --fields state,status 2>&1 | tail -1)
+echo "failsafe heartbeat (last): $hb"
+echo "$hb" | grep -Eq '^[0-9.]+,0,no failsafe event$' || { echo "FAIL: the failsafe's last heartbeat is not OK 'no failsafe event': $hb"; fail=1; }
+vs=$("$build/bin/tiller-log" csv "$log" TILLER_VEHICLE_STATUS --fields latched,action 2>&1 |
+  awk -F, 'NR > 1 { n++; if ($2 != 0 || $3 != 0) bad++ } END { print n + 0, bad + 0 }')
+echo "vehicle status: $vs (messages, with an event or an action)"
+set -- $vs
+[ "${1:-0}" -gt 100 ] && [ "${2:-1}" -eq 0 ] || { echo "FAIL: TILLER_VEHICLE_STATUS: $vs (expected > 100 messages, 0 with an event)"; fail=1; }
 # The newcomer's replay (docs/operations.md): tiller-replay LOG, from another directory, with the manifest
 # tiller-launch wrote next to the log. Nothing changed: PASS (exit 0), every replayable process
 # replayed as a live log. A changed gain (the path follower's max_speed 1.5 -> 1.6 m/s): FAIL

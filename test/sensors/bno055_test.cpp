@@ -15,6 +15,7 @@
 
 #include "core/config.hpp"
 #include "i2c/fake_bus.hpp"
+#include "i2c/linux_i2c.hpp"
 #include "runtime/node.hpp"
 #include "sensors/bno055.hpp"
 #include "sensors/fake/bno055_model.hpp"
@@ -241,6 +242,31 @@ TEST(ImuNode, MissingDeviceIsFaultNamingBusAndAddressAndIsRetried) {
   r.run(n, 2 * kUsPerSecond + 20'000, 4 * kUsPerSecond);
   EXPECT_TRUE(n.device_ready());
   EXPECT_EQ(r.out.imu.size(), 49u);  // 3.04 .. 4.0 s
+}
+
+// tiller-imu's real transport on a bus that does not exist (no /dev/i2c-N: i2c-dev not loaded):
+// no exception, the same FAULT as a missing device naming the bus and ENOENT, retried every
+// second; the process keeps running (before: LinuxI2c threw and tiller-imu exited 2).
+TEST(ImuNode, MissingBusIsFaultNamingTheBusAndIsRetried) {
+  const std::string path = "/nonexistent/i2c-99";
+  EXPECT_THROW(i2c::LinuxI2c strict(path), std::runtime_error);  // the ESC driver's choice
+  i2c::LinuxI2c bus(path, i2c::LinuxI2c::IfMissing::kRetry);
+  EXPECT_FALSE(bus.is_open());
+  EXPECT_NE(bus.open_error().find("cannot open I2C bus " + path), std::string::npos);
+  EXPECT_NE(bus.open_error().find("modprobe i2c-dev"), std::string::npos) << bus.open_error();
+  const std::uint8_t b[2] = {0x3D, 0x00};
+  EXPECT_EQ(bus.write(0x28, b, 2), ENOENT);
+  Rig r;
+  ImuNode n(r.p, bus);
+  n.attach(&r.out);
+  r.run(n, 0, 2 * kUsPerSecond);
+  EXPECT_TRUE(r.out.imu.empty());
+  EXPECT_EQ(n.counter_value("init.failures"), 3);  // t = 0, 1 s, 2 s
+  EXPECT_EQ(r.out.hb.state, heartbeat_t::STATE_FAULT);
+  EXPECT_NE(r.out.hb.status.find("bno055 on " + path + " at 0x28: no answer"), std::string::npos)
+      << r.out.hb.status;
+  EXPECT_NE(r.out.hb.status.find("ENOENT (no such I2C bus"), std::string::npos) << r.out.hb.status;
+  EXPECT_NE(r.out.hb.status.find("retrying every 1000 ms"), std::string::npos) << r.out.hb.status;
 }
 
 TEST(ImuNode, WrongChipIdIsRefused) {

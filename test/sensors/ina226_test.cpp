@@ -211,7 +211,7 @@ TEST(PowerNode, BusErrorsAreRetriedCountedAndLeadToFaultAfterFive) {
 
 TEST(PowerConfig, StrictLoader) {
   const auto p = load_power_file(TILLER_SOURCE_DIR "/config/sensors/power_ina226.yaml");
-  EXPECT_EQ(p.address, 0x40);
+  EXPECT_EQ(p.address, 0x41);  // not the PCA9685's 0x40 on the same bus
   EXPECT_EQ(p.calibration, kCal);
   auto error = [](const std::string& text) {
     try {
