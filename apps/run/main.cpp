@@ -118,6 +118,12 @@ int single(const runtool::RunSpec& s) {
               o.sim_s / std::max(wall, 1e-9), o.messages);
   std::printf("\n");
   scores::print_scores(o.scores, stdout);
+  if (o.estimated) {
+    std::printf(
+        "odometry            dead reckoning %.1f s, invalid %.1f s (after the first valid); "
+        "%zu disarm requests\n",
+        o.dead_reckoning_s, o.odometry_invalid_s, o.disarm_requests);
+  }
   if (!s.log_file.empty()) {
     const std::string m = runtool::replay_manifest(s, f);
     const std::filesystem::path p(s.log_file);

@@ -83,6 +83,7 @@ FollowerParams load_follower_params(const config::Value& v) {
   p.max_crab = v.angle_deg("max_crab_deg", {0, 80});
   p.integral_zone = v.number("integral_zone", nonneg);
   p.turn_rate = v.number("turn_rate", {0, 10});
+  p.turn_drift_rate = v.number("turn_drift_rate", {0, 10});
   return p;
 }
 

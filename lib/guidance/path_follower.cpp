@@ -19,6 +19,7 @@ void PathFollower::clear() {
   entered_by_skip_ = false;
   state_ = 0;
   world_integral_.setZero();
+  crab_world_.setZero();
 }
 
 bool PathFollower::set_path(const std::vector<Waypoint>& points, const Vec2& vehicle,
@@ -109,6 +110,25 @@ double PathFollower::wheel_over(double angle, double speed) const {
   return r * std::tan(std::min(std::abs(angle), 2 * kPi / 3) / 2);
 }
 
+Vec2 PathFollower::current_estimate() const {
+  if (p_.law == CrossTrackLaw::kWorldIntegral) return -world_integral_;
+  if (p_.law == CrossTrackLaw::kIntegral || p_.law == CrossTrackLaw::kAdaptive)
+    return -crab_world_ * p_.max_speed;
+  return Vec2(0, 0);
+}
+
+double PathFollower::drift_lead(const Vec2& t1, const Vec2& t2, double angle) const {
+  // Not for a hairpin (above 120 deg, where the wheel-over is capped too): its outside is along
+  // the new leg, and a turn started earlier only passes farther from the point.
+  if (!(p_.turn_drift_rate > 0) || angle < 1e-3 || angle > 2 * kPi / 3) return 0;
+  // The outside of the turn, across the new leg: t1's part normal to t2 (length sin(angle)).
+  const Vec2 out = t1 - t2 * t1.dot(t2);
+  const double s = out.norm();
+  const double drift = current_estimate().dot(out / s) * angle / p_.turn_drift_rate;
+  const double wo = wheel_over(angle, p_.max_speed * turn_factor(angle));
+  return std::clamp(drift / s, -wo, wo);
+}
+
 double PathFollower::crab() const {
   if (p_.law == CrossTrackLaw::kIntegral) {
     return std::atan(p_.integral_kappa * state_ / p_.lookahead);
@@ -116,10 +136,16 @@ double PathFollower::crab() const {
   return p_.law == CrossTrackLaw::kAdaptive ? state_ : 0.0;
 }
 
-// The state is the crab angle that cancels the current's component along the path normal.
-// The normal turns with the path: project the known component onto the new normal.
-// world_integral: the correction is a world-frame vector; keep only its component along the new
-// segment's normal (the part along the new leg would only add to or take from its speed).
+// The state is the crab angle that cancels the current's component along the path normal: a
+// world-frame current estimate of which each leg observes only the part along its normal. Kept
+// as a world vector (crab_world_: sin(beta) along the left normal, i.e. the current over the
+// speed; world_integral_: the correction itself), each leg refreshes its normal component and
+// leaves the rest: what the earlier legs learnt of the current along this leg's direction. At a
+// switch the new leg's state is the stored vector's component along its normal, so after two
+// legs of different directions the whole current is known and a corner no longer starts with
+// the new leg's cross current unknown (issue 13: the boat drifted wide until the integral caught
+// up). The part of the vector along a leg is never applied there (it would only add to or take
+// from the along-path speed: issue 13 finding 2).
 void PathFollower::carry_state(int from_seg, int to_seg) {
   const int n = static_cast<int>(pts_.size());
   const bool valid = from_seg >= 0 && to_seg >= 0 && from_seg + 1 < n && to_seg + 1 < n;
@@ -129,22 +155,22 @@ void PathFollower::carry_state(int from_seg, int to_seg) {
         .normalized();
   };
   if (p_.law == CrossTrackLaw::kWorldIntegral) {
-    if (!valid) {
-      world_integral_.setZero();
-      return;
-    }
-    const Vec2 t = dir(to_seg);
-    const Vec2 normal(-t.y(), t.x());
-    world_integral_ = normal * normal.dot(world_integral_);
-    return;
+    if (!valid) world_integral_.setZero();
+    return;  // applied as its component along the segment's normal (update)
   }
   if (p_.law != CrossTrackLaw::kIntegral && p_.law != CrossTrackLaw::kAdaptive) return;
   if (!valid) {
     state_ = 0;
+    crab_world_.setZero();
     return;
   }
-  const double c = std::clamp(dir(from_seg).dot(dir(to_seg)), -1.0, 1.0);
-  const double beta = std::asin(std::clamp(std::sin(crab()) * c, -1.0, 1.0));
+  const Vec2 t1 = dir(from_seg), t2 = dir(to_seg);
+  const Vec2 n1(t1.y(), -t1.x()), n2(t2.y(), -t2.x());  // left normals (NED)
+  // The leg just left: its normal component is the state (set_state may have changed it).
+  crab_world_ += n1 * (std::sin(crab()) - n1.dot(crab_world_));
+  const double lim = std::sin(p_.max_crab);
+  if (crab_world_.norm() > 1) crab_world_.normalize();
+  const double beta = std::asin(std::clamp(n2.dot(crab_world_), -lim, lim));
   state_ =
       p_.law == CrossTrackLaw::kIntegral ? p_.lookahead * std::tan(beta) / p_.integral_kappa : beta;
 }
@@ -183,9 +209,10 @@ FollowerOutput PathFollower::update(const Vec2& pos, double heading, double dt) 
       const Vec2 t1 = s.normalized();
       const Vec2 t2 = (pts_[static_cast<std::size_t>(seg_ + 2)].position - p2).normalized();
       const double angle = std::acos(std::clamp(t1.dot(t2), -1.0, 1.0));
-      const double wo = wheel_over(angle, p_.max_speed * turn_factor(angle));
+      const double wo0 = wheel_over(angle, p_.max_speed * turn_factor(angle));
+      const double wo = wo0 + drift_lead(t1, t2, angle);
       const double ahead = t1.dot(p2 - pos);  // along-track distance to p2
-      if (ahead < wo && d2 < 2 * wo + p_.corner_cut_radius) cut = true;
+      if (ahead < wo && d2 < 2 * std::max(wo, wo0) + p_.corner_cut_radius) cut = true;
     }
     if (reached || cut || rel == SegmentRelation::kInFront) {
       const bool skip =
@@ -259,7 +286,8 @@ FollowerOutput PathFollower::update(const Vec2& pos, double heading, double dt) 
     if (seg_ + 2 < n) {
       const Vec2 t2 = (pts_[static_cast<std::size_t>(seg_ + 2)].position - p2).normalized();
       const double angle = std::acos(std::clamp(t.dot(t2), -1.0, 1.0));
-      out.wheel_over = wheel_over(angle, p_.max_speed * turn_factor(angle));
+      out.wheel_over =
+          wheel_over(angle, p_.max_speed * turn_factor(angle)) + drift_lead(t, t2, angle);
       if ((p2 - pos).norm() < p_.turn_slowdown_distance) {
         out.turn_factor = turn_factor(angle);
         along_speed = std::min(along_speed, p_.max_speed * out.turn_factor);
@@ -279,12 +307,18 @@ FollowerOutput PathFollower::update(const Vec2& pos, double heading, double dt) 
       out.approach_speed = std::min(p_.approach_max_speed, e / p_.approach_divisor_s);
       Vec2 v_perp = e > 1e-9 ? Vec2(to_path / e * out.approach_speed) : Vec2(0, 0);
       if (p_.law == CrossTrackLaw::kWorldIntegral) {
-        if (dt > 0 && e < p_.integral_zone) {
+        // As for the LOS laws, not while a turn is flown (its error is the turn's).
+        const bool in_turn =
+            p_.turn_rate > 0 && seg_ > 0 && (p1 - pos).norm() < p_.turn_slowdown_distance;
+        if (dt > 0 && e < p_.integral_zone && !in_turn) {
           world_integral_ += p_.integral_gain * to_path * dt;
           const double m = world_integral_.norm();
           if (m > p_.integral_limit) world_integral_ *= p_.integral_limit / m;
         }
-        v_perp += world_integral_;
+        // Only its component along the normal (to_path is along it): the rest is what earlier
+        // legs learnt of the current along this leg (carry_state).
+        const Vec2 normal(-t.y(), t.x());
+        v_perp += normal * normal.dot(world_integral_);
       }
       v = t * along_speed + v_perp;
       // Never above max_speed (the correction added to a full along-path speed went up to
@@ -309,6 +343,8 @@ FollowerOutput PathFollower::update(const Vec2& pos, double heading, double dt) 
           state_ = std::clamp(state_, -p_.max_crab, p_.max_crab);
         }
       }
+      const Vec2 nl(t.y(), -t.x());  // left normal: the state's part of the world estimate
+      crab_world_ += nl * (std::sin(crab()) - nl.dot(crab_world_));
       const double chi = los_heading(std::atan2(t.y(), t.x()), ye);
       v = Vec2(std::cos(chi), std::sin(chi)) * along_speed;
     }

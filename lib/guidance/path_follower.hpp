@@ -52,6 +52,13 @@
 // turn's speed), so the turn ends on the next leg instead of outside it; the turn's slow-down
 // then also holds within turn_slowdown_distance after the corner (the turn is flown there).
 //
+// In a current (turn_drift_rate > 0), the wheel-over point moves by the drift the law's current
+// estimate (current_estimate()) predicts during the turn: outward part c_out (across the new leg,
+// toward the old leg's direction) times angle / turn_drift_rate, over sin(angle) (a point moved
+// back along the old leg by x moves the turn's end across the new leg by x sin(angle)); bounded
+// to [-R tan(d/2), 3 max(R tan(d/2), 1 m)]. An underactuated boat cannot push sideways while it
+// turns: the turn itself carries it c_out * T outward (issue 13: 1.5 m outside in 0.3 m/s).
+//
 // Bad paths: consecutive points closer than min_segment_length are merged (repeated points,
 // zero-length segments); a one-point path becomes a segment from the vehicle's position to the
 // point. update() allocates nothing.
@@ -98,6 +105,8 @@ struct FollowerParams {
   double max_crab = 0.5;          // rad: bound on the crab angle of the integral / adaptive state
   double integral_zone = 3.0;     // m: integrate only when this close to the path
   double turn_rate = 0;           // rad/s: wheel-over from R = U / turn_rate; 0: none (the seed)
+  double turn_drift_rate = 0;     // rad/s: with turn_rate, the wheel-over moves by the current's
+                                  // drift over angle / this (the estimate's outward part); 0: off
 };
 
 struct Waypoint {
@@ -180,7 +189,17 @@ class PathFollower {
   bool last_heading_valid_ = false;
   Vec2 world_integral_{0, 0};  // world_integral's correction, m/s NED
   double state_ = 0;           // y_int (integral) or beta_hat (adaptive), path frame
+  Vec2 crab_world_{0, 0};      // integral / adaptive: sin(crab) along the left normal, world frame,
+                               // each leg's normal component kept (carry_state)
   double crab() const;
+  double drift_lead(const Vec2& t1, const Vec2& t2, double angle) const;
+
+ public:
+  // The world-frame current estimate the law holds (m/s NED; what it has learnt on each leg of
+  // the current across it): world_integral -correction, integral / adaptive -sin(crab) * speed.
+  Vec2 current_estimate() const;
+
+ private:
   void carry_state(int from_seg, int to_seg);
 };
 

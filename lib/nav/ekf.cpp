@@ -42,7 +42,8 @@ void Ekf::predict(double dt, const Motion& m) {
   const Eigen::Vector3d dp_dpsi(-pdot(1), pdot(0), 0.0);
   const double cf = std::cos(m.roll);
   const double ct = std::max(std::cos(m.pitch), kMinCosPitch);
-  const double psi_dot = (m.q * std::sin(m.roll) + (m.r - x_(kBiasR)) * cf) / ct;
+  const double rc = m.r - x_(kBiasR);
+  const double psi_dot = (m.q * std::sin(m.roll) + rc * cf) / ct;
 
   Covariance f = Covariance::Identity();
   f.block<3, 3>(kN, kU) = r * dt;
@@ -51,6 +52,21 @@ void Ekf::predict(double dt, const Motion& m) {
 
   x_.segment<3>(kN) += pdot * dt;
   x_(kPsi) = wrap_pi(x_(kPsi) + psi_dot * dt);
+  if (m.accel) {
+    // nu_dot = a - omega x nu, forward and starboard; omega = [p q r - b_r].
+    const double udot = m.ax - x_(kBiasAx) + rc * v(1) - m.q * v(2);
+    const double vdot = m.ay - x_(kBiasAy) - rc * v(0) + m.p * v(2);
+    f(kU, kV) = rc * dt;
+    f(kU, kW) = -m.q * dt;
+    f(kU, kBiasR) = -v(1) * dt;
+    f(kU, kBiasAx) = -dt;
+    f(kV, kU) = -rc * dt;
+    f(kV, kW) = m.p * dt;
+    f(kV, kBiasR) = v(0) * dt;
+    f(kV, kBiasAy) = -dt;
+    x_(kU) += udot * dt;
+    x_(kV) += vdot * dt;
+  }
 
   P_ = f * P_ * f.transpose();
   P_(kN, kN) += q_.position * dt;
@@ -61,6 +77,8 @@ void Ekf::predict(double dt, const Motion& m) {
   P_(kW, kW) += q_.velocity_vertical * dt;
   P_(kPsi, kPsi) += q_.heading * dt;
   P_(kBiasR, kBiasR) += q_.gyro_bias * dt;
+  P_(kBiasAx, kBiasAx) += q_.accel_bias * dt;
+  P_(kBiasAy, kBiasAy) += q_.accel_bias * dt;
 }
 
 template <int M>

@@ -1,13 +1,17 @@
 // tiller-nav's filter: an extended Kalman filter of a marine vehicle's position, body velocity and
 // heading (docs/navigation.md has the models and their sources).
 //
-// State x (kStates = 8): [n e d] m, local NED about the datum; [u v w] m/s, velocity over ground
-// in body FRD; psi rad, heading in (-pi, pi]; b_r rad/s, the gyro's yaw-rate bias.
-// Roll, pitch and the body rates [p q r] are inputs (the IMU's own fused attitude and its gyro),
-// not states: a Motion sample, held between IMU samples.
+// State x (kStates = 10): [n e d] m, local NED about the datum; [u v w] m/s, velocity over ground
+// in body FRD; psi rad, heading in (-pi, pi]; b_r rad/s, the gyro's yaw-rate bias; [b_ax b_ay]
+// m/s^2, the accelerometer's forward and starboard biases.
+// Roll, pitch, the body rates [p q r] and the body acceleration are inputs (the IMU's own fused
+// attitude, its gyro and its accelerometer less gravity), not states: a Motion sample, held
+// between IMU samples.
 // Process model (Fossen 2021, eq. 2.18 and 2.29: eta_dot = J(eta) nu): p_dot = R_zyx(phi, theta,
-// psi) [u v w]; psi_dot = (q sin(phi) + (r - b_r) cos(phi)) / cos(theta); u, v, w and b_r random
-// walks; integrated with Euler steps, covariance P <- F P F^T + Q dt.
+// psi) [u v w]; psi_dot = (q sin(phi) + (r - b_r) cos(phi)) / cos(theta); with the acceleration
+// (an aided INS, Fossen 2021 ch. 14): u_dot = a_x - b_ax + r' v - q w, v_dot = a_y - b_ay - r' u
+// + p w (r' = r - b_r: nu_dot = a - omega x nu in the body frame), else u and v random walks;
+// w, b_r, b_ax and b_ay random walks; integrated with Euler steps, covariance P <- F P F^T + Q dt.
 // Measurements: north-east position (GNSS), north-east velocity (GNSS), heading, depth, and the
 // vertical velocity (a surface vehicle's w = 0). Each update gates on the normalised innovation
 // squared NIS = y^T S^-1 y (chi-square with as many degrees of freedom as the measurement has):
@@ -20,8 +24,19 @@
 
 namespace tiller::nav {
 
-inline constexpr int kStates = 8;
-enum StateIndex : int { kN = 0, kE = 1, kD = 2, kU = 3, kV = 4, kW = 5, kPsi = 6, kBiasR = 7 };
+inline constexpr int kStates = 10;
+enum StateIndex : int {
+  kN = 0,
+  kE = 1,
+  kD = 2,
+  kU = 3,
+  kV = 4,
+  kW = 5,
+  kPsi = 6,
+  kBiasR = 7,
+  kBiasAx = 8,
+  kBiasAy = 9
+};
 
 using State = Eigen::Matrix<double, kStates, 1>;
 using Covariance = Eigen::Matrix<double, kStates, kStates>;
@@ -33,13 +48,17 @@ struct ProcessNoise {
   double velocity_vertical = 0.01;    // (m/s)^2/s: w random walk
   double heading = 1e-4;              // rad^2/s: gyro noise integrated into the heading
   double gyro_bias = 1e-8;            // (rad/s)^2/s: yaw-rate bias random walk
+  double accel_bias = 3e-5;           // (m/s^2)^2/s: accelerometer bias random walk (x, y)
 };
 
-// The IMU's part, held between its samples: roll and pitch (rad, ZYX Euler body->NED) and the
-// gyro's body rates (rad/s, FRD).
+// The IMU's part, held between its samples: roll and pitch (rad, ZYX Euler body->NED), the
+// gyro's body rates (rad/s, FRD) and, when `accel` is set, the body's acceleration relative to
+// NED in FRD (m/s^2: the specific force plus gravity, R^T [0 0 g], forward and starboard).
 struct Motion {
   double roll = 0, pitch = 0;
   double p = 0, q = 0, r = 0;
+  double ax = 0, ay = 0;
+  bool accel = false;  // false: u and v are random walks (no accelerometer in the model)
 };
 
 struct UpdateResult {

@@ -12,9 +12,11 @@
 namespace tiller::nav {
 
 namespace {
-constexpr double kPositionCap = 1e6;  // m^2: (1 km)^2, an unobserved north / east
-constexpr double kVelocityCap = 1e2;  // (m/s)^2: (10 m/s)^2
-constexpr double kSurfaceVar = 1e-6;  // m^2 and (m/s)^2: a surface vehicle's d = 0, w = 0
+constexpr double kPositionCap = 1e6;   // m^2: (1 km)^2, an unobserved north / east
+constexpr double kVelocityCap = 1e2;   // (m/s)^2: (10 m/s)^2
+constexpr double kSurfaceVar = 1e-6;   // m^2 and (m/s)^2: a surface vehicle's d = 0, w = 0
+constexpr double kAccelBiasCap = 1e2;  // (m/s^2)^2: an unused accelerometer's biases
+constexpr double kGravity = 9.80665;   // m/s^2, standard gravity
 
 double sq(double x) {
   return x * x;
@@ -65,6 +67,7 @@ NavNode::NavNode(const NavParams& p)
   if (p.depth_source == DepthSource::kSurface) c(kW, kW) = kSurfaceVar;
   c(kPsi, kPsi) = sq(kPi);
   c(kBiasR, kBiasR) = sq(p.initial_gyro_bias_std);
+  c(kBiasAx, kBiasAx) = c(kBiasAy, kBiasAy) = sq(p.initial_accel_bias_std);
   ekf_.reset(x, c);
   attitude_var_[0] = attitude_var_[1] = sq(p.imu.default_attitude_std);
   for (double& v : rate_var_) v = sq(p.imu.default_rate_std);
@@ -86,6 +89,10 @@ void NavNode::advance(TimeUs t) {
     return;
   }
   if (t <= t_) return;
+  // The accelerometer drives the velocity only while the IMU is fresh (a stale sample's
+  // acceleration is not integrated on).
+  motion_.accel =
+      p_.imu.use_acceleration && have_imu_ && t - last_imu_ <= from_seconds(p_.imu.timeout_s);
   ekf_.predict(to_seconds(t - t_), motion_);
   t_ = t;
 }
@@ -108,11 +115,13 @@ void NavNode::on_gnss(const gnss_fix_t& m, TimeUs now) {
     ++*no_fix_;
     return;
   }
-  if (started_ && to_seconds(t_ - std::min(m.utime, now)) > p_.gnss.max_latency_s) {
+  // When the fix was taken: its utime (reception) less the receiver's configured delay.
+  const TimeUs taken = std::min(m.utime, now) - from_seconds(p_.gnss.latency_s);
+  if (started_ && to_seconds(t_ - taken) > p_.gnss.max_latency_s) {
     ++*too_late_;
     return;
   }
-  const double lag = align(m.utime, now);
+  const double lag = align(taken, now);
   const bool has_altitude = m.fix_type >= gnss_fix_t::FIX_3D;
   if (!have_datum_) {
     datum_.Reset(m.latitude, m.longitude, has_altitude ? m.altitude : 0.0);
@@ -154,7 +163,11 @@ void NavNode::on_gnss(const gnss_fix_t& m, TimeUs now) {
     }
   }
   if (!p_.gnss.use_velocity || !m.velocity_valid || !heading_init_) return;
-  const Eigen::Vector2d zv(m.speed * std::cos(m.course), m.speed * std::sin(m.course));
+  // The velocity over ground `lag` s ago, turned on by the heading change since (a body-frame
+  // velocity carries the turn).
+  const double turned = (mo.r - x(kBiasR)) * lag;
+  const Eigen::Vector2d zv(m.speed * std::cos(m.course + turned),
+                           m.speed * std::sin(m.course + turned));
   const double vv = sq(p_.gnss.velocity_std_mps);
   const UpdateResult r =
       ekf_.update_velocity_ne(zv, Eigen::Vector2d(vv, vv).asDiagonal(), mo, p_.gnss.gate_chi2);
@@ -185,6 +198,10 @@ void NavNode::on_imu(const imu_t& m, TimeUs now) {
       motion_.pitch = std::atan2(fx, std::hypot(fy, fz));
     }
   }
+  // The body's acceleration (FRD, forward and starboard): specific force plus gravity,
+  // f + R^T [0 0 g] = f + g [-sin(theta), sin(phi) cos(theta), .].
+  motion_.ax = m.specific_force[0] - kGravity * std::sin(motion_.pitch);
+  motion_.ay = m.specific_force[1] + kGravity * std::sin(motion_.roll) * std::cos(motion_.pitch);
   attitude_var_[0] = variance_or(m.orientation_covariance[0], p_.imu.default_attitude_std);
   attitude_var_[1] = variance_or(m.orientation_covariance[4], p_.imu.default_attitude_std);
   for (int i = 0; i < 3; ++i)
@@ -334,6 +351,7 @@ void NavNode::on_tick(TimeUs now) {
   }
   for (int i : {kN, kE, kD}) ekf_.cap_variance(i, kPositionCap);
   for (int i : {kU, kV, kW}) ekf_.cap_variance(i, kVelocityCap);
+  for (int i : {kBiasAx, kBiasAy}) ekf_.cap_variance(i, kAccelBiasCap);
   const std::int32_t valid = validity(now);
   if (!(valid & odometry_t::VALID_POSITION)) ++*invalid_out_;
   odom_.valid = valid;

@@ -56,6 +56,7 @@ NavParams load_nav_params(const Value& root) {
     q.reset_after = static_cast<int>(g.integer_or("reset_after", q.reset_after, 1, 100000));
     q.timeout_s = g.number_or("timeout_s", q.timeout_s, {0.01, 3600});
     q.max_latency_s = g.number_or("max_latency_s", q.max_latency_s, {0, 10});
+    q.latency_s = g.number_or("latency_s", q.latency_s, {0, 5});
   });
   section(root, "heading", [&](const Value& h) {
     auto& q = p.heading;
@@ -70,6 +71,7 @@ NavParams load_nav_params(const Value& root) {
     q.default_attitude_std =
         i.angle_deg_or("default_attitude_std_deg", q.default_attitude_std, {0.001, 90});
     q.default_rate_std = i.number_or("default_rate_std", q.default_rate_std, {1e-6, 10});
+    q.use_acceleration = i.boolean_or("use_acceleration", q.use_acceleration);
   });
   section(root, "depth", [&](const Value& d) {
     auto& q = p.depth;
@@ -84,11 +86,13 @@ NavParams load_nav_params(const Value& root) {
     q.velocity_vertical = n.number_or("velocity_vertical", q.velocity_vertical, kNonNegative);
     q.heading = n.number_or("heading", q.heading, kNonNegative);
     q.gyro_bias = n.number_or("gyro_bias", q.gyro_bias, kNonNegative);
+    q.accel_bias = n.number_or("accel_bias", q.accel_bias, kNonNegative);
   });
   section(root, "initial", [&](const Value& i) {
     p.initial_velocity_std_mps =
         i.number_or("velocity_std_mps", p.initial_velocity_std_mps, {0.001, 100});
     p.initial_gyro_bias_std = i.number_or("gyro_bias_std", p.initial_gyro_bias_std, {0, 10});
+    p.initial_accel_bias_std = i.number_or("accel_bias_std", p.initial_accel_bias_std, {0, 100});
   });
   section(root, "limits", [&](const Value& l) {
     auto& q = p.limits;

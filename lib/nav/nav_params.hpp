@@ -32,6 +32,7 @@ struct NavParams {
     int reset_after = 25;        // consecutive gated fixes, then the position is reset
     double timeout_s = 1.0;      // no fix used for this long: dead reckoning
     double max_latency_s = 0.5;  // a fix older than the filter's time by more is refused
+    double latency_s = 0;        // the fix was taken this long before its utime (receiver delay)
   } gnss;
   struct Heading {
     double declination = 0;      // rad, added to a magnetic heading (east positive)
@@ -43,6 +44,7 @@ struct NavParams {
     double timeout_s = 0.5;                // attitude invalid past this without an IMU sample
     double default_attitude_std = 0.0175;  // rad, roll and pitch, when the IMU says none
     double default_rate_std = 0.01;        // rad/s, when the IMU says none
+    bool use_acceleration = false;         // the accelerometer drives u and v (an aided INS)
   } imu;
   struct Depth {
     double default_std_m = 0.05;  // when the pressure message says none
@@ -52,6 +54,7 @@ struct NavParams {
   ProcessNoise process;
   double initial_velocity_std_mps = 2.0;
   double initial_gyro_bias_std = 0.02;  // rad/s
+  double initial_accel_bias_std = 0.1;  // m/s^2
   struct Limits {                       // past these 1-sigma values the part is flagged invalid
     double position_std_m = 10;
     double velocity_std_mps = 0.5;

@@ -1,5 +1,7 @@
 #include "runtool/run.hpp"
 
+#include <tiller/arm_request_t.hpp>
+#include <tiller/odometry_t.hpp>
 #include <tiller/path_progress_t.hpp>
 #include <tiller/velocity_setpoint_t.hpp>
 
@@ -170,12 +172,28 @@ RunOutcome run(const RunSpec& spec) {
   std::vector<Event> scored;
   path_progress_t pr;
   velocity_setpoint_t vsp;
+  odometry_t od;
+  arm_request_t ar;
+  constexpr std::int32_t kNeeded = int{odometry_t::VALID_POSITION} |
+                                   int{odometry_t::VALID_VELOCITY} |
+                                   int{odometry_t::VALID_ATTITUDE};
+  bool was_valid = false;
+  TimeUs last_odom = -1;
   ex.observe([&](const std::string& ch, const std::uint8_t* d, int n, TimeUs t) {
     ++out.messages;
     if (log) log->write(ch, d, n, t);
     if (ch == channels::kVelocitySetpoint && vsp.decode(d, 0, n) == n && vsp.active) {
       out.max_setpoint_speed =
           std::max(out.max_setpoint_speed, std::hypot(vsp.velocity[0], vsp.velocity[1]));
+    }
+    if (ch == channels::kArmRequest && ar.decode(d, 0, n) == n && !ar.arm) ++out.disarm_requests;
+    if (out.estimated && ch == channels::kOdometry && od.decode(d, 0, n) == n) {
+      const double dt = last_odom >= 0 ? to_seconds(t - last_odom) : 0.0;
+      last_odom = t;
+      const bool valid = (od.valid & kNeeded) == kNeeded;
+      if (od.valid & odometry_t::DEAD_RECKONING) out.dead_reckoning_s += dt;
+      if (was_valid && !valid) out.odometry_invalid_s += dt;
+      was_valid |= valid;
     }
     if (ch == channels::kGroundTruth || ch == channels::kOdometry || ch == channels::kPath ||
         ch == channels::kPathProgress) {

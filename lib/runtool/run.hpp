@@ -72,6 +72,10 @@ struct RunOutcome {
   double max_speed = 0;           // m/s: the follower's max_speed (guidance config)
   double start_north = 0, start_east = 0, start_heading = 0;  // where the vehicle started
   bool estimated = false;                                     // flown on tiller-nav's odometry
+  // On estimated state, from TILLER_ODOMETRY's valid bits (s of simulated time, by sample):
+  double dead_reckoning_s = 0;      // DEAD_RECKONING set
+  double odometry_invalid_s = 0;    // position, velocity or attitude invalid after the first valid
+  std::size_t disarm_requests = 0;  // TILLER_ARM_REQUEST disarms (the mixer's: input lost)
 };
 
 // Runs it. Config errors throw config::Error (file, line, key); others std::runtime_error.

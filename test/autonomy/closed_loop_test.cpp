@@ -49,10 +49,13 @@ TEST(ClosedLoop, WayfindingCourseCompletesWithoutMissingAWaypoint) {
     // measured values with a margin. Measured (the old code: world_integral kept whole across a
     // corner, turn_rate 0, in brackets): Otter final 0.069 m (0.261), RMS 0.232 (0.345),
     // overshoot 1.189 (1.320); X 0.000, 0.086, 0.132 (0.104); H 0.000, 0.073, 0.121 (0.090).
+    // The current estimate carried through corners (turn_drift_rate) and the Otter's station
+    // keeping (ki 10, i_limit 30 N): final 0.083, RMS 0.193, overshoot 0.639 (before: 0.069,
+    // 0.232, 1.189).
     const bool otter = k.name == "otter";
     EXPECT_LE(r.path.final_position_error, 0.10);
-    EXPECT_LT(r.path.cross_track_rms, otter ? 0.27 : 0.1);
-    EXPECT_LT(r.corners.max_overshoot, otter ? 1.3 : 0.2);
+    EXPECT_LT(r.path.cross_track_rms, otter ? 0.21 : 0.1);
+    EXPECT_LT(r.corners.max_overshoot, otter ? 0.7 : 0.2);
     EXPECT_LT(r.max_switch_jump, 20.0);  // N per 50 ms after a hand-over: no step
     std::printf("%s wayfinding: final %.3f xte_rms %.3f overshoot %.3f switch step %.2f N\n",
                 k.name.c_str(), r.path.final_position_error, r.path.cross_track_rms,
@@ -105,6 +108,45 @@ TEST(ClosedLoop, StationKeepingEndsOnTheGoalWhateverTheCurrentsDirection) {
     }
     std::printf("%s: final error after 30 s, worst of 8 current directions: %.3f m\n",
                 k.name.c_str(), worst);
+  }
+}
+
+// Issue 13's final-error target after a course, not only a straight approach: the Otter 30 s
+// after completing the box, the wayfinding course and the station-keeping task, in the
+// directions where it ended farthest off. Before (station keeping ki 6, i_limit 60 N, the
+// heading held below 8 N): box toward 315 deg 0.396 m (the integral wound up to 60 N in the
+// arrival's turn, the boat overshot 2 m and came back slowly), toward 180 0.107; wayfinding
+// toward 0 0.150, toward 180 0.149; station keeping in still water 0.182 (a sideways error under
+// min_force / kp = 0.2 m was never corrected), toward 315 0.211.
+TEST(ClosedLoop, OtterEndsWithin10cmAfterACourseWhateverTheCurrent) {
+  struct Arrival {
+    const char* mission;
+    double current, toward_deg;
+  };
+  const Arrival cases[] = {{"config/missions/default.yaml", 0.3, 315},
+                           {"config/missions/default.yaml", 0.3, 180},
+                           {"config/missions/vrx_wayfinding.yaml", 0.3, 0},
+                           {"config/missions/vrx_wayfinding.yaml", 0.3, 180},
+                           {"config/missions/station_keeping.yaml", 0, 0},
+                           {"config/missions/station_keeping.yaml", 0.3, 315}};
+  const auto& otter = plants()[0];
+  for (const auto& a : cases) {
+    RunConfig c;
+    c.mission_file = a.mission;
+    c.control_file = otter.control_file;
+    c.guidance_file = otter.guidance_file;
+    c.make_plant = otter.make;
+    c.pose_channel = otter.pose_channel;
+    c.current_speed = a.current;
+    c.current_from_deg = a.toward_deg + 180;
+    c.hold_s = 30;
+    const auto r = run_mission(c);
+    SCOPED_TRACE(std::string(a.mission) + ", toward " + std::to_string(a.toward_deg));
+    ASSERT_TRUE(r.completed);
+    EXPECT_GE(r.held_s, 30.0);
+    EXPECT_LE(r.path.final_position_error, 0.10);
+    std::printf("%s, %.1f m/s toward %.0f deg: final %.3f m\n", a.mission, a.current, a.toward_deg,
+                r.path.final_position_error);
   }
 }
 

@@ -54,7 +54,8 @@ struct HoldRun {
   double final_distance = 0;   // m, at the RESUME (or the end)
   double max_thrust_step = 0;  // largest change of a thruster command between two commands,
                                // within 5 s after each event (normalised, [-1, 1] range)
-  double switch_step = 0;      // the same within 0.25 s of each change of the mixer's source
+  double switch_step = 0;      // the same in thrust (c|c|) within 0.25 s of each change of the
+                               // mixer's source
                                // after the first event (the hand-over)
   double max_thrust_step_before = 0;   // the same over the 10 s before the first event
   bool gate_active_throughout = true;  // the mixer's gate ACTIVE from the start to the end
@@ -122,14 +123,17 @@ HoldRun run(const std::vector<Event>& events, double end_s, bool can_hold = true
       started = started || cmd.gate == thruster_command_t::GATE_ACTIVE;
       if (started && cmd.gate != thruster_command_t::GATE_ACTIVE) r.gate_active_throughout = false;
       if (have_last) {
-        double step = 0;
-        for (int i = 0; i < cmd.n_thrusters; ++i)
-          step = std::max(step, std::abs(cmd.command[static_cast<std::size_t>(i)] -
-                                         last.command[static_cast<std::size_t>(i)]));
+        double step = 0, thrust_step = 0;
+        for (int i = 0; i < cmd.n_thrusters; ++i) {
+          const double c = cmd.command[static_cast<std::size_t>(i)];
+          const double l = last.command[static_cast<std::size_t>(i)];
+          step = std::max(step, std::abs(c - l));
+          thrust_step = std::max(thrust_step, std::abs(c * std::abs(c) - l * std::abs(l)));
+        }
         for (const auto& e : events)
           if (ts >= e.t && ts <= e.t + 5) r.max_thrust_step = std::max(r.max_thrust_step, step);
         if (ts > t0 && cmd.source != last.source) switched_at = ts;
-        if (ts <= switched_at + 0.25) r.switch_step = std::max(r.switch_step, step);
+        if (ts <= switched_at + 0.25) r.switch_step = std::max(r.switch_step, thrust_step);
         if (ts >= t0 - 10 && ts < t0)
           r.max_thrust_step_before = std::max(r.max_thrust_step_before, step);
       }
@@ -187,10 +191,13 @@ HoldRun run(const std::vector<Event>& events, double end_s, bool can_hold = true
 // (1 s, no step), so the boat runs on ~1 m while the blend turns the thrust round. Measured on
 // this rig: 1.36 m past the cancel point, then it holds within that, facing into the current.
 constexpr double kStoppingDistance = 2.0;  // m: the bound asserted (measured 1.72 m)
-// The largest change of a thruster command (normalised) between two mixer commands in the
-// 0.25 s after the source changes: the hand-over blends (measured 0.049, 0.116 with the resume;
-// the velocity PID's
-// steady commands change by 0.004 per command). Later in the stop the station keeper's own law,
+// The largest change of a thruster's normalised thrust c|c| (the ESC's thrust is quadratic in the
+// command c) between two mixer commands in the 0.25 s after the source changes: the hand-over
+// blends. In thrust, not in command: near zero thrust a 6 N change (5 % of full) is a command
+// step of 0.35 (-0.137 -> 0.216, measured at the resume with the Otter's station keeping at ki 10,
+// i_limit 30 N), though the wrench blends smoothly (X 26.2 -> 36.9 N, N 11.3 -> 10.2 N m).
+// Measured in thrust: 0.064 at that resume. The velocity PID's steady commands change by 0.004
+// per command. Later in the stop the station keeper's own law,
 // braking from 1.5 m/s and turning into the current with one thruster saturated, changes a
 // command by up to 0.64 in 50 ms: its tuning, not the hand-over.
 constexpr double kHandOverStep = 0.15;

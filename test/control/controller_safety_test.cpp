@@ -180,13 +180,13 @@ TEST(IntegratorGate, StationKeeperDoesNotIntegrateWhileDisarmedAndStartsFromZero
              6'000'000);
   ex.run_until(3'990'000);
   ASSERT_TRUE(node.active());
-  EXPECT_EQ(max_abs_i, 0.0);  // the old code: 6 N/(m s) * 1 m * 4 s = 24 N
+  EXPECT_EQ(max_abs_i, 0.0);  // the old code: 10 N/(m s) * 1 m * 4 s = 40 N
   EXPECT_DOUBLE_EQ(terms.p[0], p.pid.x.kp * 1.0);
   ex.run_until(4'050'000);  // the first tick that sees ACTIVE: P + one step of integral
-  EXPECT_NEAR(terms.i[0], p.pid.x.ki * 1.0 * 0.05, 1e-12);  // 0.3 N
-  EXPECT_NEAR(terms.output[0], p.pid.x.kp * 1.0 + 0.3, 1e-9);
+  EXPECT_NEAR(terms.i[0], p.pid.x.ki * 1.0 * 0.05, 1e-12);  // 10 N/(m s) * 1 m * 0.05 s = 0.5 N
+  EXPECT_NEAR(terms.output[0], p.pid.x.kp * 1.0 + p.pid.x.ki * 1.0 * 0.05, 1e-9);
   ex.run_until(4'550'000);
-  EXPECT_NEAR(terms.i[0], p.pid.x.ki * 1.0 * 0.55, 1e-9);  // 6 * 1 m * 0.55 s = 3.3 N
+  EXPECT_NEAR(terms.i[0], p.pid.x.ki * 1.0 * 0.55, 1e-9);  // 10 * 1 m * 0.55 s = 5.5 N
 }
 
 TEST(Hold, TheArbiterHoldsAStoppedPathOrLostGuidanceOnceAPathWasFollowed) {

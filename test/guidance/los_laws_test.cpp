@@ -149,6 +149,64 @@ TEST(LosLaws, WorldIntegralKeepsOnlyTheNewNormalComponentAtASwitch) {
   EXPECT_NEAR(c.dot(Vec2(c30, s30)), 0, 1e-12);
 }
 
+// The current estimate carried through corners: 40 steps 1 m right of the first leg (north) build
+// 0.2 m/s east, which is across the first leg only. After a 90 deg corner (second leg east) none
+// of it applies (it lies along the leg: finding 2), but it is kept: after the next corner (third
+// leg south) it is across the leg again and applies at once, 0.2 m/s east. Before, the second
+// leg's projection dropped it: the third leg started from zero and drifted until it re-learnt it.
+TEST(LosLaws, WorldIntegralKeepsWhatALegLearntForTheLegsAcrossIt) {
+  PathFollower f(los_params(CrossTrackLaw::kWorldIntegral));
+  f.set_path(pts({{0, 0}, {20, 0}, {20, 20}, {0, 20}}), Vec2(0, 0), 0, false);
+  for (int i = 0; i < 40; ++i) f.update(Vec2(10, -1), 0, 0.1);
+  EXPECT_NEAR(f.current_estimate().y(), -0.2, 1e-12);         // the water sets the boat west
+  EXPECT_EQ(f.update(Vec2(20.5, 1), kPi / 2, 0).segment, 1);  // past the corner
+  const auto o2 = f.update(Vec2(20, 10), kPi / 2, 0);         // on the second leg, along it
+  EXPECT_EQ(o2.segment, 1);
+  EXPECT_NEAR(o2.velocity.x(), 0, 1e-12);  // nothing across the leg
+  EXPECT_NEAR(o2.velocity.y(), 1.5, 1e-12);
+  EXPECT_EQ(f.update(Vec2(19, 20.5), kPi, 0).segment, 2);  // past the second corner
+  const auto o3 = f.update(Vec2(10, 20), kPi, 0);          // on the third leg (south)
+  EXPECT_EQ(o3.segment, 2);
+  // 0.2 m/s east, added to 1.5 south and scaled to max_speed (then by the heading factor).
+  EXPECT_NEAR(o3.velocity.y() / o3.heading_factor, 0.2 * 1.5 / std::hypot(1.5, 0.2), 1e-12);
+}
+
+// The same for integral and adaptive LOS: the crab held on the first leg returns on the third.
+TEST(LosLaws, CrabCarriedThroughTwoCornersComesBackOnTheThirdLeg) {
+  for (auto law : {CrossTrackLaw::kIntegral, CrossTrackLaw::kAdaptive}) {
+    SCOPED_TRACE(static_cast<int>(law));
+    PathFollower f(los_params(law));
+    f.set_path(pts({{0, 0}, {100, 0}, {100, 100}, {0, 100}}), Vec2(0, 0), 0, false);
+    f.set_state(law == CrossTrackLaw::kIntegral ? 5 * std::tan(0.2) : 0.2);  // crab 0.2 rad
+    EXPECT_NEAR(f.update(Vec2(100.2, 0.5), 0, 0).crab, 0, 1e-12);            // 90 deg: none across
+    EXPECT_NEAR(f.update(Vec2(99.8, 100.5), kPi, 0).crab, -0.2, 1e-12);  // reversed leg: flipped
+  }
+}
+
+// With turn_drift_rate, the wheel-over point moves by the drift the current estimate predicts in
+// the turn. A first leg east, 1 m south of it for 4 s: 0.2 m/s of current toward the south
+// estimated (the correction points north). A second leg north (s = 1) or south (s = -1), then a
+// 90 deg corner onto a leg east: the turn's outside is along the second leg, so the current sets
+// the boat inward (s = 1: the turn starts 0.2 * (pi / 2) / 0.5 = 0.628 m later) or outward (s = -1:
+// as much earlier); bounded by the wheel-over itself.
+TEST(LosLaws, WheelOverMovesByTheCurrentsDriftInTheTurn) {
+  for (double s : {1.0, -1.0}) {
+    SCOPED_TRACE(s);
+    auto p = los_params(CrossTrackLaw::kWorldIntegral);
+    p.turn_rate = 0.5;
+    p.turn_drift_rate = 0.5;
+    PathFollower f(p);
+    f.set_path(pts({{0, 0}, {0, 40}, {s * 20, 40}, {s * 20, 60}}), Vec2(0, 0), kPi / 2, false);
+    for (int i = 0; i < 40; ++i) f.update(Vec2(-1, 10), kPi / 2, 0.1);
+    EXPECT_NEAR(f.current_estimate().x(), -0.2, 1e-12);  // m/s: toward the south
+    const auto o = f.update(Vec2(s * 10, 40.5), s > 0 ? 0 : kPi, 0);
+    EXPECT_EQ(o.segment, 1);
+    const double base = f.wheel_over(kPi / 2, 1.5 * f.turn_factor(kPi / 2));
+    EXPECT_NEAR(base, 1.8, 1e-12);
+    EXPECT_NEAR(o.wheel_over, base - s * 0.2 * (kPi / 2) / 0.5, 1e-9);
+  }
+}
+
 TEST(LosLaws, WheelOverPointFromTheTurnRadius) {
   auto p = los_params(CrossTrackLaw::kLos);
   p.turn_rate = 0.5;

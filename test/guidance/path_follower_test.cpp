@@ -364,11 +364,12 @@ TEST(FollowerConfig, PerVehicleFilesDeriveTheBrakingFromTheVehicle) {
   struct V {
     const char* name;
     double reverse_n, m11;
-    double turn_rate;  // rad/s: the vehicle's own (turn anticipation); default.yaml's is 0
+    double turn_rate;        // rad/s: the vehicle's own (turn anticipation); default.yaml's is 0
+    double turn_drift_rate;  // rad/s: the current's drift in a turn; default.yaml's is 0
   };
-  const V vehicles[] = {{"otter", 2 * 66.7, 85.5, 0.7},                         // two propellers
-                        {"seed004_usv_x", 4 * 100.0 * std::sqrt(0.5), 180, 0},  // 4 at 45 deg
-                        {"seed004_usv_h", 4 * 100.0, 180, 0}};  // side pair: no surge
+  const V vehicles[] = {{"otter", 2 * 66.7, 85.5, 0.7, 0.45},                      // two propellers
+                        {"seed004_usv_x", 4 * 100.0 * std::sqrt(0.5), 180, 0, 0},  // 4 at 45 deg
+                        {"seed004_usv_h", 4 * 100.0, 180, 0, 0}};  // side pair: no surge
   for (const auto& v : vehicles) {
     SCOPED_TRACE(v.name);
     const auto root =
@@ -380,9 +381,11 @@ TEST(FollowerConfig, PerVehicleFilesDeriveTheBrakingFromTheVehicle) {
     EXPECT_NEAR(p.follower.braking_decel, 0.16 * v.reverse_n / v.m11, 1e-9);
     // Everything else as default.yaml.
     EXPECT_EQ(p.follower.turn_rate, v.turn_rate);
+    EXPECT_EQ(p.follower.turn_drift_rate, v.turn_drift_rate);
     auto q = p;
     q.follower.braking_decel = def.follower.braking_decel;
     q.follower.turn_rate = def.follower.turn_rate;
+    q.follower.turn_drift_rate = def.follower.turn_drift_rate;
     const auto& a = q.follower;
     const auto& b = def.follower;
     const double av[] = {a.max_speed,
@@ -433,6 +436,7 @@ TEST(FollowerConfig, PerVehicleFilesDeriveTheBrakingFromTheVehicle) {
     EXPECT_EQ(a.end_slowdown, b.end_slowdown);
     EXPECT_EQ(a.law, b.law);
     EXPECT_EQ(a.turn_rate, b.turn_rate);
+    EXPECT_EQ(a.turn_drift_rate, b.turn_drift_rate);
     EXPECT_EQ(q.rate_hz, def.rate_hz);
     EXPECT_EQ(q.odometry_timeout_s, def.odometry_timeout_s);
   }

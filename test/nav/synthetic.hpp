@@ -3,8 +3,9 @@
 // noisy GNSS, IMU, heading and pressure messages made from it, as the drivers publish them.
 // The default noise is a 2.5 m CEP GNSS at 5 Hz (1-sigma 2.5 / 1.1774 = 2.12 m per axis) with
 // 0.1 m/s velocity noise, and a consumer IMU: gyro bias 0.005 rad/s (0.29 deg/s), gyro noise
-// 0.005 rad/s per sample at 100 Hz, a fused heading at 10 Hz with 2 deg white noise, roll and
-// pitch 0.5 deg. Everything is deterministic for a seed.
+// 0.005 rad/s per sample at 100 Hz, accelerometer bias 0.03 m/s^2 and noise 0.03 m/s^2, a fused
+// heading at 10 Hz with 2 deg white noise, roll and pitch 0.5 deg. Everything is deterministic for
+// a seed.
 #pragma once
 
 #include <cmath>
@@ -34,6 +35,7 @@ struct Noise {
   double gnss_std_m = 2.5 / 1.1774;
   double gnss_velocity_std = 0.1;
   double gyro_bias = 0.005, gyro_std = 0.005;  // rad/s
+  double accel_bias = 0.03, accel_std = 0.03;  // m/s^2 (forward, starboard)
   double heading_std = deg_to_rad(2.0);
   double attitude_std = deg_to_rad(0.5);
   double depth_std = 0.02;  // m
@@ -95,7 +97,10 @@ class Synthetic {
     m.angular_rate[0] = g(noise_.gyro_std);
     m.angular_rate[1] = g(noise_.gyro_std);
     m.angular_rate[2] = truth_.r + noise_.gyro_bias + g(noise_.gyro_std);
-    m.specific_force[2] = -9.81;
+    // Level, constant speed: the body's acceleration is the turn's centripetal r u, starboard.
+    m.specific_force[0] = noise_.accel_bias + g(noise_.accel_std);
+    m.specific_force[1] = truth_.u * truth_.r - noise_.accel_bias + g(noise_.accel_std);
+    m.specific_force[2] = -9.80665;
     const double roll = g(noise_.attitude_std), pitch = g(noise_.attitude_std);
     const double cr = std::cos(roll / 2), sr = std::sin(roll / 2);
     const double cp = std::cos(pitch / 2), sp = std::sin(pitch / 2);

@@ -8,6 +8,7 @@
 #include <fstream>
 #include <iterator>
 
+#include "core/angles.hpp"
 #include "core/config.hpp"
 #include "harness.hpp"
 #include "plants.hpp"
@@ -91,30 +92,58 @@ TEST(RunTool, CurrentFlagsGiveTheHarnessNumbersInACurrent) {
 }
 
 // On estimated state the whole Otter stack flies on tiller-nav's odometry, made from the
-// simulated GNSS (2.5 m CEP, 5 Hz), IMU and heading; it completes the default mission, the
-// scores carry the estimation error against the truth (measured here: position RMS 0.83 m, the
-// issue's target 0.5 m not met yet). A 20 s GNSS outage from 20 s: dead reckoning, then the
-// velocity goes invalid (13 s in), the velocity PID's wrench invalid, the mixer neutral and
-// disarmed (input lost): the boat stops, it does not resume by itself when fixes return.
-TEST(RunTool, EstimatedStateFliesTheMissionThroughA20sGnssOutage) {
-  RunSpec s = default_spec();
-  s.sim_args = {"--odometry", "estimated"};
-  const auto o = run(s);
-  ASSERT_TRUE(o.estimated);
-  ASSERT_TRUE(o.completed);
-  EXPECT_EQ(o.scores.path_scores.waypoints_reached, 5);
-  EXPECT_GT(o.scores.estimation_samples, 1000u);
-  EXPECT_GT(o.scores.position_error_rms, 0.05);          // an estimate, not the truth
-  EXPECT_LT(o.scores.position_error_rms, 1.5);           // m; measured 0.83
-  EXPECT_LT(o.scores.heading_error_rms, 0.035);          // rad (2 deg); measured 0.9 deg
-  EXPECT_LT(o.scores.path_scores.cross_track_rms, 1.2);  // m; 0.17 on the truth, 0.52 measured
-  EXPECT_TRUE(replay_manifest(s, o.files).empty());      // tiller-replay does not replay tiller-nav
+// simulated GNSS (2.5 m CEP, 5 Hz, 0.1 s latency), IMU and heading (config/sim/sensors/usv.yaml,
+// config/nav/usv_sim.yaml). The targets of issue 14: estimation error RMS <= 0.5 m and <= 1 deg
+// (measured 0.40 m / 0.89 deg on default.yaml, 0.33 m / 0.52 deg on long_course.yaml; 0.83 and
+// 0.84 m before the filter used the accelerometer and the fix's latency). The boat follows the
+// estimate, so its true cross-track is the truth run's plus at most the estimation error
+// (measured 0.172 -> 0.375 m and 0.057 -> 0.249 m: the issue's 1.5x is not met on cross-track).
+TEST(RunTool, EstimatedStateMeetsTheEstimationTargetsOnTheShippedMissions) {
+  for (const char* mission : {"default.yaml", "long_course.yaml"}) {
+    SCOPED_TRACE(mission);
+    RunSpec s;
+    s.mission_file = kSrc + "/config/missions/" + mission;
+    const auto truth = run(s);
+    s.sim_args = {"--odometry", "estimated"};
+    const auto o = run(s);
+    ASSERT_TRUE(o.estimated);
+    ASSERT_TRUE(o.completed);
+    const auto& p = o.scores.path_scores;
+    const auto& t = truth.scores.path_scores;
+    EXPECT_EQ(p.waypoints_missed, 0);
+    EXPECT_EQ(p.waypoints_reached, t.waypoints_reached);
+    EXPECT_GT(o.scores.estimation_samples, 1000u);
+    EXPECT_GT(o.scores.position_error_rms, 0.05);  // an estimate, not the truth
+    EXPECT_LE(o.scores.position_error_rms, 0.5);   // m
+    EXPECT_LE(o.scores.heading_error_rms, deg_to_rad(1.0));
+    EXPECT_LE(p.time_to_complete, 1.5 * t.time_to_complete);
+    EXPECT_LE(p.cross_track_rms, t.cross_track_rms + o.scores.position_error_rms);
+    EXPECT_DOUBLE_EQ(o.dead_reckoning_s, 0.0);
+    EXPECT_DOUBLE_EQ(o.odometry_invalid_s, 0.0);
+    EXPECT_EQ(o.disarm_requests, 0u);
+    EXPECT_TRUE(replay_manifest(s, o.files).empty());  // tiller-replay does not replay tiller-nav
+  }
+}
 
+// A 20 s GNSS outage from 20 s into default.yaml: the filter dead-reckons on the gyro and the
+// accelerometer (position and velocity covariance growing, DEAD_RECKONING set), its odometry
+// stays valid (velocity 1-sigma under limits.velocity_std_mps), so the boat carries on: no
+// neutral, no disarm, the speed setpoints within the follower's limit. When the fixes return the
+// estimate converges again and the mission completes at its goal. Before the aided INS the
+// velocity went invalid 13 s in, the mixer disarmed and the boat stayed stopped.
+TEST(RunTool, EstimatedStateCarriesOnThroughA20sGnssOutageAndRecovers) {
+  RunSpec s = default_spec();
   s.sim_args = {"--odometry", "estimated", "--gnss-outage", "20:20"};
-  const auto out = run(s);
-  EXPECT_FALSE(out.completed);  // stopped, disarmed: needs the operator's re-arm and resume
-  EXPECT_LT(out.scores.position_error_max, 15.0);  // m: dead reckoning drifts, bounded
-  EXPECT_GT(out.scores.position_error_max, o.scores.position_error_max);
+  const auto o = run(s);
+  ASSERT_TRUE(o.completed);
+  EXPECT_GE(o.dead_reckoning_s, 18.0);  // 20 s less gnss.timeout_s (1 s)
+  EXPECT_LE(o.dead_reckoning_s, 20.0);
+  EXPECT_DOUBLE_EQ(o.odometry_invalid_s, 0.0);
+  EXPECT_EQ(o.disarm_requests, 0u);
+  EXPECT_LE(o.max_setpoint_speed, o.max_speed + 1e-9);
+  EXPECT_GT(o.scores.position_error_max, 1.0);   // m: dead reckoning drifts (measured 8.5)
+  EXPECT_LT(o.scores.position_error_max, 10.0);  // within limits.position_std_m
+  EXPECT_LT(o.scores.path_scores.final_position_error, 1.5);  // m: recovered (measured 0.45)
 }
 
 TEST(RunTool, TheMissionStartIsWhereTheBoatStarts) {
