@@ -36,6 +36,8 @@
 // (client_closed), sends a bad value, or is silent for gamepad.timeout_s gives a neutral, invalid
 // demand at once and must centre again; the mixer's freshness limit covers a lost packet.
 // shutdown() sends the same neutral, invalid demand.
+// Sources: cockpit_node.cpp (subscriptions, tick, clients), cockpit_frames.cpp (the JSON frames),
+// cockpit_commands.cpp (token, arm, mode, missions), cockpit_pilot.cpp (gamepad, thruster test).
 #pragma once
 
 #include <functional>
@@ -97,9 +99,15 @@ class CockpitNode : public Node {
   template <class Msg, int I>
   void on_state(const Msg& m, TimeUs now);
   void on_heartbeat(const heartbeat_t& m, TimeUs now);
+  void write_hello(int client);
   void write_state(TimeUs now, bool full);
   void reply(int client, std::string_view command, bool ok, const std::string& detail);
   bool refuse(int client, std::string_view command, std::int64_t& counter, const std::string& why);
+  // The commands (json: the command's nlohmann::json object).
+  void on_arm(int client, const void* json, TimeUs now);
+  void on_mode(int client, const void* json, TimeUs now);
+  void on_mission_load(int client, const void* json, TimeUs now);
+  void on_mission(int client, const void* json, TimeUs now);
   void on_gamepad(int client, const void* json, TimeUs now);
   void on_thruster_test(int client, const void* json, TimeUs now);
   void pilot_lost(TimeUs now, std::int64_t& why);

@@ -2,6 +2,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <cstdio>
 #include <filesystem>
 #include <string_view>
 
@@ -121,6 +122,7 @@ MixerNode::MixerNode(const MixerParams& params, const Vehicle& vehicle)
   subscribe(channels::kArmState, &MixerNode::on_arm_state);
   subscribe(channels::kMissionCommand, &MixerNode::on_mission_command);
   subscribe(channels::kThrusterTest, &MixerNode::on_thruster_test);
+  subscribe(channels::kVehicleStatus, &MixerNode::on_vehicle_status);
   accept_only_from(channels::kThrusterTest, p_.test_senders);
   advertise<thruster_command_t>(channels::kThrusterCommand);
   advertise<allocation_status_t>(channels::kAllocationStatus);
@@ -131,7 +133,7 @@ MixerNode::MixerNode(const MixerParams& params, const Vehicle& vehicle)
   rej_mission_ = &counter("rejected.mission_command.invalid");
   held_neutral_ = &counter("neutral.safety_gate");
   disarm_requests_ = &counter("safety.disarm_requests");
-  cmd_.hold.reserve(128);
+  cmd_.hold.reserve(192);  // the longest hold: a test refusal naming the failsafe (160)
   neutral_disarmed_ = &counter("neutral.disarmed");
   neutral_no_input_ = &counter("neutral.no_valid_input");
   rej_test_ = &counter("rejected.thruster_test.invalid");
@@ -296,6 +298,28 @@ void MixerNode::on_thruster_test(const thruster_test_t& m, TimeUs now) {
   if (new_press || change) output(now);
 }
 
+void MixerNode::on_vehicle_status(const vehicle_status_t& m, TimeUs now) {
+  // An event: one that waited in a stopped process's queue is too late. No freshness limit
+  // after that: the last status stays in force.
+  if (!on_time(m.utime, now, kEventMaxAgeUs, "vehicle_status")) return;
+  if (checks::check(m) != nullptr) {
+    reject(counter("rejected.vehicle_status.invalid"));  // made on first use
+    return;
+  }
+  static constexpr const char* kActions[] = {"NONE",    "WARN",    "HOLD",   "RETURN",
+                                             "SURFACE", "NEUTRAL", "DISARM", "RISE"};
+  const bool was = failsafe_text_[0] != '\0';
+  if (m.active != 0 || m.action > vehicle_status_t::ACTION_WARN) {
+    const int a = m.action;  // checked: one of ACTION_*
+    std::snprintf(failsafe_text_, sizeof failsafe_text_, "%s: %s",
+                  a >= 0 && a < 8 ? kActions[a] : "?", m.reason.c_str());
+  } else {
+    failsafe_text_[0] = '\0';
+  }
+  // A running test ends at once when a failsafe becomes active.
+  if (!was && failsafe_text_[0] != '\0' && gate_.state() == safety::GateState::kTest) output(now);
+}
+
 // The controller the source in control belongs to: the arbitration's mode when it is fresh,
 // else what the fallback source is.
 safety::Controller MixerNode::controller_now(TimeUs now) {
@@ -357,6 +381,7 @@ void MixerNode::output(TimeUs now) {
   gi.test = test_;
   gi.test.fresh = test_fresh_.fresh(now);
   gi.n_thrusters = alloc_->size();
+  gi.failsafe = failsafe_text_[0] != '\0' ? failsafe_text_ : nullptr;
   const safety::GateState before = gate_.state();
   const std::int64_t refused_before = gate_.test_refusals();
   const safety::GateOutput g = gate_.step(gi, now);

@@ -22,7 +22,11 @@
 // Thruster test (TILLER_THRUSTER_TEST, thruster_test_t, accepted only from thruster_test.senders,
 // default [cockpit]): the gate's TEST state (docs/safety.md, "Thruster test") commands the one
 // named thruster at the request's command (|command| <= thruster_test.max_command) and every
-// other thruster neutral; the request must come again within thruster_test.request_s.
+// other thruster neutral; the request must come again within thruster_test.request_s. A test is
+// refused (and a running one ends) while the failsafe is in control or tiller-failsafe's latest
+// TILLER_VEHICLE_STATUS has an event holding or an action beyond WARN (no freshness limit, as in
+// tiller-velocity-pid: a failsafe that stops reporting does not end its claim; a status older
+// than the event limit by its utime is refused).
 // Source choice: see select_source() -- the one place that decides.
 #pragma once
 
@@ -38,6 +42,7 @@
 #include <tiller/mission_command_t.hpp>
 #include <tiller/thruster_command_t.hpp>
 #include <tiller/thruster_test_t.hpp>
+#include <tiller/vehicle_status_t.hpp>
 #include <tiller/wrench_t.hpp>
 
 #include "allocation/allocator.hpp"
@@ -102,6 +107,7 @@ class MixerNode : public Node {
   void on_arm_state(const arm_state_t& m, TimeUs now);
   void on_mission_command(const mission_command_t& m, TimeUs now);
   void on_thruster_test(const thruster_test_t& m, TimeUs now);
+  void on_vehicle_status(const vehicle_status_t& m, TimeUs now);
 
   const Allocator& allocator() const { return *alloc_; }
   const AllocationResult& last_result() const { return result_; }
@@ -132,6 +138,8 @@ class MixerNode : public Node {
   std::int64_t session_ = 0;
   Freshness test_fresh_;
   safety::TestRequest test_;  // the latest accepted request (fresh: active)
+  // tiller-failsafe's latest status, when a failsafe is active: "<ACTION>: <reason>" ("": none).
+  char failsafe_text_[128] = {};
   safety::IntentGate gate_;
   // The heartbeat's status text, kept here so that a changed text (the gate's refusal with the
   // stick's value) is compared by content and handed over without a temporary string.

@@ -57,7 +57,8 @@ std::string encode_row(const Row& r) {
   os << "ok " << r.completed << " " << r.xte_rms << " " << r.xte_max << " " << r.time_s << " "
      << r.final_m << " " << r.heading_rad << " " << r.vrx_way << " " << r.vrx_sk << " " << r.sim_s
      << " " << r.missed << " " << r.steady_rms << " " << r.overshoot << " " << r.max_setpoint << " "
-     << r.max_speed << " " << r.path_m << " " << r.final_30 << "\n";
+     << r.max_speed << " " << r.path_m << " " << r.final_30 << " " << r.est_rms << " "
+     << r.est_head_deg << "\n";
   return os.str();
 }
 
@@ -69,7 +70,7 @@ Row decode_row(const std::string& text) {
   if (tag == "ok") {
     is >> r.completed >> r.xte_rms >> r.xte_max >> r.time_s >> r.final_m >> r.heading_rad >>
         r.vrx_way >> r.vrx_sk >> r.sim_s >> r.missed >> r.steady_rms >> r.overshoot >>
-        r.max_setpoint >> r.max_speed >> r.path_m >> r.final_30;
+        r.max_setpoint >> r.max_speed >> r.path_m >> r.final_30 >> r.est_rms >> r.est_head_deg;
     r.ok = !is.fail();
     if (!r.ok) r.error = "unreadable result '" + text + "'";
   } else if (tag == "error") {
@@ -224,6 +225,10 @@ Row row_of(const RunOutcome& o) {
   const auto c = scores::corner_scores(o.scores.poses, o.scores.path, o.scores.start, 60,
                                        o.completed ? o.completed_at : 1e300);
   r.steady_rms = c.steady_cross_track_rms;
+  if (o.estimated) {
+    r.est_rms = o.scores.position_error_rms;
+    r.est_head_deg = o.scores.heading_error_rms * 180.0 / M_PI;
+  }
   r.overshoot = c.max_overshoot;
   r.max_setpoint = o.max_setpoint_speed;
   r.max_speed = o.max_speed;
@@ -397,7 +402,7 @@ std::string csv(const std::vector<Axis>& axes, const std::vector<Row>& rows) {
   for (const auto& a : axes) os << a.name << ",";
   os << "completed";
   for (const auto& m : kMetrics) os << "," << m.name;
-  os << ",missed,max_speed,path_m,sim_s,final_30,error\n";
+  os << ",missed,max_speed,path_m,sim_s,final_30,est_rms,est_head_deg,error\n";
   for (const auto& r : rows) {
     for (std::size_t k = 0; k < axes.size(); ++k) os << r.index[k] << ",";
     for (std::size_t k = 0; k < axes.size(); ++k)
@@ -414,9 +419,11 @@ std::string csv(const std::vector<Axis>& axes, const std::vector<Row>& rows) {
     os << "," << (r.ok ? std::to_string(r.missed) : "NaN") << ",";
     if (r.ok)
       os << r.max_speed << "," << r.path_m << "," << r.sim_s << ","
-         << (r.final_30 >= 0 ? std::to_string(r.final_30) : "NaN");
+         << (r.final_30 >= 0 ? std::to_string(r.final_30) : "NaN") << ","
+         << (r.est_rms >= 0 ? std::to_string(r.est_rms) : "NaN") << ","
+         << (r.est_head_deg >= 0 ? std::to_string(r.est_head_deg) : "NaN");
     else
-      os << "NaN,NaN,NaN,NaN";
+      os << "NaN,NaN,NaN,NaN,NaN,NaN";
     os << ",";
     std::string e = r.error;
     for (char& c : e)

@@ -58,6 +58,7 @@ struct Row {
   double steady_rms = -1, overshoot = 0, max_setpoint = 0, max_speed = 0;
   double path_m = 0;     // m: the length of the path as followed (for time / (length / cruise))
   double final_30 = -1;  // m: distance to the goal 30 s after completion (or at the end); -1: none
+  double est_rms = -1, est_head_deg = -1;  // estimation error RMS (m, deg); -1: on the truth
 };
 
 // The row of a finished run.

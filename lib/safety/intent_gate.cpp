@@ -85,7 +85,10 @@ GateOutput IntentGate::step(const GateInput& in, TimeUs now) {
       last_good_ = now;
     }
     if (state_ == GateState::kTest)
-      end_test(in.session != session_ ? "a new arming" : "the controller changed");
+      end_test(in.session != session_ ? "a new arming"
+               : in.controller == Controller::kFailsafe
+                   ? "the failsafe (tiller-failsafe) took control"
+                   : "the controller changed");
     session_ = in.session;
     controller_ = in.controller;
     enter(GateState::kWaitNeutral);
@@ -170,6 +173,13 @@ const char* IntentGate::step_test(const GateInput& in, bool pilot_neutral, TimeU
   const TestRequest& t = in.test;
   const bool cmd_ok = std::fabs(t.command) <= p_.test_max_command;  // false for NaN
   if (state_ == GateState::kTest) {
+    if (in.failsafe != nullptr) {
+      enter(GateState::kWaitNeutral);
+      std::snprintf(test_buf_, sizeof test_buf_,
+                    "thruster test ended: a failsafe is active (tiller-failsafe: %s; press again)",
+                    in.failsafe);
+      return test_buf_;
+    }
     const char* why = !t.fresh           ? "the button was let go or the request is stale"
                       : t.id != test_id_ ? "another test id"
                       : t.thruster != test_thruster_ ? "another thruster"
@@ -189,7 +199,18 @@ const char* IntentGate::step_test(const GateInput& in, bool pilot_neutral, TimeU
   if (t.id == test_id_) return test_buf_[0] != '\0' ? test_buf_ : nullptr;  // used up
   test_id_ = t.id;  // a new press: taken now or refused, never retried
   const bool pilot_ok = !in.pilot_fresh || pilot_neutral;
-  const char* why = state_ == GateState::kActive && controller_ != Controller::kPilot
+  // Any failsafe first, whatever the gate's state: the failsafe in control (its wrench, or its
+  // hold in a manual mode), even while it waits neutral; or one active under another controller.
+  if (controller_ == Controller::kFailsafe || in.failsafe != nullptr) {
+    ++test_refusals_;
+    std::snprintf(test_buf_, sizeof test_buf_,
+                  "thruster test refused: %s (tiller-failsafe: %s; clear it first)",
+                  controller_ == Controller::kFailsafe ? "the failsafe is in control"
+                                                       : "a failsafe is active",
+                  in.failsafe != nullptr ? in.failsafe : "its wrench or hold in force");
+    return test_buf_;
+  }
+  const char* why = state_ == GateState::kActive && controller_ == Controller::kAutonomy
                         ? "the autonomy is in control (abort or release first)"
                     : !pilot_ok ? "the pilot's demand is not neutral"
                     : t.thruster < 0 || t.thruster >= in.n_thrusters ? "no such thruster"

@@ -37,12 +37,14 @@
 //   WAIT_NEUTRAL, INPUT_LOST, or ACTIVE with the pilot in control and its demand neutral or
 //                -> TEST          a fresh thruster test request with a new test id naming a
 //                thruster
-//                                 of the vehicle at |command| <= test_max_command (else refused:
-//                                 hold says why while that id is held)
+//                                 of the vehicle at |command| <= test_max_command, while neither
+//                                 the failsafe is in control nor a failsafe is active (else
+//                                 refused: hold says why while that id is held)
 //   TEST         -> WAIT_NEUTRAL  the request ends (let go, stale: link loss), another id or
 //                                 thruster or command beyond the cap, a pilot demand off
-//                                 neutral, an operator START/RESUME, test_max_duration; the
-//                                 id is used up (a new press is needed)
+//                                 neutral, an operator START/RESUME, a failsafe becoming active
+//                                 or taking control, test_max_duration; the id is used up (a
+//                                 new press is needed)
 // Disarm: armed with no good input from the source in control for `disarm_after` (default 3 s,
 // counted from the later of the last good input and the arming), or an operator RELEASE: step()
 // returns disarm = true (once, then every second while still armed), and the mixer publishes
@@ -95,6 +97,10 @@ struct GateInput {
   bool source_fresh = false;      // the active source's input is fresh and valid
   TestRequest test;               // a thruster test request
   int n_thrusters = 0;            // the vehicle's thrusters (a test names one of them)
+  // A failsafe is active (tiller-failsafe's latest TILLER_VEHICLE_STATUS has an event holding or
+  // an action beyond WARN): what it says, e.g. "HOLD: battery 13.1 V < critical 13.2 V", named in
+  // the thruster test's refusal. nullptr: none. A thruster test is refused and ended while set.
+  const char* failsafe = nullptr;
 };
 
 struct GateOutput {
@@ -152,7 +158,7 @@ class IntentGate {
   double test_command_ = 0.0;
   TimeUs test_start_ = 0;
   std::int64_t gos_ = 0, test_gos_ = 0;  // operator STARTs/RESUMEs seen; at the test's start
-  char test_buf_[112] = {};              // why the used-up id is refused, while it is held
+  char test_buf_[160] = {};              // why the used-up id is refused, while it is held
 };
 
 }  // namespace tiller::safety

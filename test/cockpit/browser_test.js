@@ -10,7 +10,9 @@
 //   page gives neutral; closing the page with the stick held gives neutral within the mixer's
 //   link-loss limit (0.5 s), measured. The thruster test: refused while disarmed; armed with the
 //   stick centred, holding the page's button spins the one chosen thruster (gate TEST, its ESC
-//   output moves, every other stays neutral) and letting go gives neutral again.
+//   output moves, every other stays neutral) and letting go gives neutral again. The mode
+//   selector reaches tiller-rov-control: HEADING_HOLD comes back in force (its arbitration and
+//   heartbeat), DEPTH_HOLD is refused naming heave, MANUAL_OPEN_LOOP hands the stick back.
 //   Memory: the USV page's JS heap (CDP Performance.getMetrics JSHeapUsedSize, after a forced GC)
 //   sampled every 2 s from 5 s after load; after the mission (the warm-up: the code, the path and
 //   the track arrive) the page stays live for SOAK_S s (20; TILLER_COCKPIT_SOAK_S=600 by hand: the
@@ -214,7 +216,8 @@ async function rov(browser) {
     await ctx.addInitScript(fakePad);
     const page = await ctx.newPage();
     await page.goto(`http://127.0.0.1:8088/#token=${token()}`);
-    await until(() => state(page, () => st.health.length === 3 && st.health.every((h) => h.state === 'OK')), 10000, 'ROV: every process OK');
+    await until(() => state(page, () => st.health.length === 5 && st.health.every((h) => h.state === 'OK')), 10000,
+                'ROV: every process OK (sim, esc, mixer, rov-control, failsafe)');
     // An observer page (no token, no gamepad) watches the thruster commands.
     const obs = await (await browser.newContext()).newPage();
     await obs.goto('http://127.0.0.1:8088/');
@@ -261,6 +264,32 @@ async function rov(browser) {
                              'let go: the ESC output falls back to neutral');
     if (fell) notes.push(`thruster test let go -> ESC output neutral seen ${Date.now() - letGo} ms later (20 Hz state frames)`);
     await until(async () => (await tcmd()).gate === 2, 2000, 'after the test the centred pilot is back in control (gate ACTIVE)');
+
+    // The mode selector reaches tiller-rov-control: the mode in force comes back in its
+    // TILLER_ARBITRATION (source 4: SOURCE_ROV_CONTROL) and its heartbeat, and the page's mode
+    // pill shows it; a mode this 4-thruster layout cannot fly is refused, naming the axis.
+    const arb = () => state(obs, () => st.msgs.TILLER_ARBITRATION && st.msgs.TILLER_ARBITRATION.msg);
+    const rovStatus = () => state(obs, () => st.msgs.TILLER_HEARTBEAT_ROV_CONTROL && st.msgs.TILLER_HEARTBEAT_ROV_CONTROL.msg.status);
+    const setMode = async (m) => { await page.selectOption('#modesel', m); await press(page, 'modebtn'); };
+    await until(async () => { const a = await arb(); return a && a.mode === 0 && a.active_source === 1; }, 3000,
+                'ROV: tiller-rov-control starts in manual (arbitration MANUAL_OPEN_LOOP, the stick to the mixer)');
+    await setMode('HEADING_HOLD');
+    await until(async () => { const a = await arb(); return a.mode === 5 && a.active_source === 4; }, 3000,
+                'Set mode HEADING_HOLD: tiller-rov-control flies heading hold (arbitration mode 5, SOURCE_ROV_CONTROL)');
+    await until(async () => (await rovStatus()).startsWith('heading hold on'), 3000, 'tiller-rov-control\'s heartbeat says heading hold');
+    await until(async () => (await page.textContent('#mode')) === 'mode HEADING_HOLD', 2000, 'the mode pill shows the mode in force');
+    await until(async () => (await tcmd()).gate === 2 && (await tcmd()).source === 4, 2000, 'the mixer allocates tiller-rov-control\'s wrench (gate ACTIVE)');
+    await page.screenshot({ path: path.join(out, 'rov-heading-hold.png') });
+    await setMode('DEPTH_HOLD');
+    await until(async () => (await rovStatus()).includes('depth hold refused') && (await rovStatus()).includes('heave'), 3000,
+                'DEPTH_HOLD on 4 horizontal thrusters: refused, naming heave');
+    check((await arb()).mode === 5, 'the refused mode leaves heading hold in force');
+    await until(async () => (await page.textContent('#mode')).startsWith('mode HEADING_HOLD (asked DEPTH_HOLD: depth hold refused'), 2000,
+                'the mode pill shows the refusal');
+    notes.push('ROV mode via the page: ' + (await rovStatus()));
+    await setMode('MANUAL_OPEN_LOOP');
+    await until(async () => { const a = await arb(); return a.mode === 0 && a.active_source === 1; }, 5000,
+                'back to MANUAL_OPEN_LOOP (after the blend): the stick to the mixer again');
 
     await page.evaluate(() => { window.__maxTimerGap = 0; });
     await page.evaluate(() => { window.__axes = [0, 0, 0, -1]; });  // right stick full forward

@@ -3,16 +3,34 @@
 # stack under tools/netns-run, as in CI): exit 0, every waypoint reached, a log and a PNG plot,
 # tiller-failsafe's heartbeat OK and no failsafe event in the log,
 # and its log replays through today's code with the launcher's manifest (PASS unchanged, FAIL
-# with a changed gain).
+# with a changed gain). While it runs it prints the cockpit's URL, which serves the page.
 # About 100 s of wall time (the default mission flies in real time). And it fails loudly (exit 1,
 # with the reason) when a mission cannot complete in its time limit. Args: SOURCE_DIR BUILD_DIR
 set -u
 src="$1"; build="$2"
 tmp=$(mktemp -d)
 trap 'rm -rf "$tmp"' EXIT
-out=$(TILLER_NO_SETUP=1 TILLER_BUILD_DIR="$build" TILLER_LOG_DIR="$tmp" "$src/tools/main-job" 2>&1); rc=$?
-echo "$out" | grep -v '^logger' | tail -40
 fail=0
+# While the mission runs the main job prints the cockpit's URL (docs/operations.md, "The browser
+# cockpit"), and the page answers through it. A free port of this side: another run's forward
+# may hold 8088.
+port=$(python3 -c 'import socket; s = socket.socket(); s.bind(("127.0.0.1", 0)); print(s.getsockname()[1])')
+TILLER_COCKPIT_PORT=$port TILLER_NO_SETUP=1 TILLER_BUILD_DIR="$build" TILLER_LOG_DIR="$tmp" "$src/tools/main-job" > "$tmp/out" 2>&1 &
+job=$!
+url=""; i=0
+while [ -z "$url" ] && [ $i -lt 300 ] && kill -0 $job 2>/dev/null; do
+  sleep 0.2; i=$((i + 1))
+  url=$(sed -n 's/^tiller: cockpit: open \(http:[^ ]*\) while the mission runs$/\1/p' "$tmp/out")
+done
+case "$url" in
+  "http://127.0.0.1:$port/#token="?*)
+    python3 -c 'import sys, urllib.request; sys.stdout.write(urllib.request.urlopen(sys.argv[1].split("#")[0], timeout=10).read().decode())' "$url" |
+      grep -q "<title>Tiller cockpit" || { echo "FAIL: the printed URL $url did not serve the cockpit's page"; fail=1; } ;;
+  *) echo "FAIL: the main job printed no cockpit URL on port $port (got '$url')"; fail=1 ;;
+esac
+wait $job; rc=$?
+out=$(cat "$tmp/out")
+echo "$out" | grep -v '^logger' | tail -40
 [ $rc -eq 0 ] || { echo "FAIL: main job exited $rc"; fail=1; }
 echo "$out" | grep -q "mission complete in" || { echo "FAIL: no 'mission complete'"; fail=1; }
 echo "$out" | grep -Eq "waypoints +5 \(reached in order 5, missed 0\)" || { echo "FAIL: not every waypoint reached"; fail=1; }

@@ -399,5 +399,75 @@ TEST(IntentGateTest, TimesOutAndHoldingItKeepsTheArmingAlive) {
   EXPECT_TRUE(o.disarm);
 }
 
+// Safety review: a thruster test could start while tiller-failsafe was in control but waiting
+// (WAIT_NEUTRAL: nothing had moved in this arming, or INPUT_LOST), and the refusal while it was
+// ACTIVE said "the autonomy is in control". Now any failsafe refuses a test, naming it: the
+// failsafe in control in any state, or a failsafe active (GateInput::failsafe) under any
+// controller; an active failsafe also ends a running test.
+TEST(IntentGateTest, AnyFailsafeRefusesATestAndNamesIt) {
+  const std::string in_control =
+      "thruster test refused: the failsafe is in control (tiller-failsafe: its wrench or hold in "
+      "force; clear it first)";
+  // In control, waiting neutral (armed, nothing moved yet): refused, not TEST.
+  IntentGate w;
+  ASSERT_EQ(w.step(failsafe(true, 1, true), 0).state, GateState::kWaitNeutral);
+  GateOutput o = w.step(with_test(failsafe(true, 1, true), 1, 1, 0.1), 10 * kMs);
+  EXPECT_EQ(o.state, GateState::kWaitNeutral);
+  EXPECT_EQ(o.test_thruster, -1);
+  EXPECT_EQ(std::string(o.hold), in_control);
+  // In control, its input lost: refused.
+  IntentGate l;
+  l.step(pilot(true, 1, true, 0.0), 0);
+  l.step(failsafe(true, 1, true), 10 * kMs);
+  ASSERT_EQ(l.step(failsafe(true, 1, false), 20 * kMs).state, GateState::kInputLost);
+  o = l.step(with_test(failsafe(true, 1, false), 1, 1, 0.1), 30 * kMs);
+  EXPECT_EQ(o.state, GateState::kInputLost);
+  EXPECT_EQ(std::string(o.hold), in_control);
+  // In control and moving: the failsafe is named, not the autonomy.
+  IntentGate a;
+  a.step(pilot(true, 1, true, 0.0), 0);
+  ASSERT_EQ(a.step(failsafe(true, 1, true), 10 * kMs).state, GateState::kActive);
+  GateInput fi = with_test(failsafe(true, 1, true), 1, 1, 0.1);
+  fi.failsafe = "SURFACE: leak";
+  o = a.step(fi, 20 * kMs);
+  EXPECT_EQ(o.state, GateState::kActive);
+  EXPECT_EQ(std::string(o.hold),
+            "thruster test refused: the failsafe is in control (tiller-failsafe: SURFACE: leak; "
+            "clear it first)");
+  // Active under the pilot (a hold in a manual mode reaches the mixer as the failsafe, but an
+  // event can hold while the pilot still flies): refused; cleared, a new press is taken.
+  IntentGate p;
+  p.step(pilot(true, 1, true, 0.0), 0);
+  GateInput pi = with_test(pilot(true, 1, true, 0.0), 1, 1, 0.1);
+  pi.failsafe = "WARN: battery 14.2 V < warning 14.4 V";
+  o = p.step(pi, 10 * kMs);
+  EXPECT_EQ(o.state, GateState::kActive);
+  EXPECT_EQ(std::string(o.hold),
+            "thruster test refused: a failsafe is active (tiller-failsafe: WARN: battery 14.2 V < "
+            "warning 14.4 V; clear it first)");
+  EXPECT_EQ(p.step(with_test(pilot(true, 1, true, 0.0), 2, 1, 0.1), 20 * kMs).state,
+            GateState::kTest);
+  // A failsafe becoming active during a test ends it at once.
+  GateInput during = with_test(pilot(true, 1, true, 0.0), 2, 1, 0.1);
+  during.failsafe = "HOLD: geofence";
+  o = p.step(during, 30 * kMs);
+  EXPECT_EQ(o.state, GateState::kWaitNeutral);
+  EXPECT_EQ(o.test_thruster, -1);
+  EXPECT_EQ(std::string(o.hold),
+            "thruster test ended: a failsafe is active (tiller-failsafe: HOLD: geofence; press "
+            "again)");
+  // The failsafe taking control during a test: ended, named.
+  IntentGate t;
+  t.step(pilot(true, 1, true, 0.0), 0);
+  ASSERT_EQ(t.step(with_test(pilot(true, 1, true, 0.0), 1, 1, 0.1), 10 * kMs).state,
+            GateState::kTest);
+  o = t.step(with_test(failsafe(true, 1, true), 1, 1, 0.1), 20 * kMs);
+  EXPECT_NE(o.state, GateState::kTest);
+  EXPECT_EQ(o.test_thruster, -1);
+  EXPECT_EQ(std::string(o.hold),
+            "thruster test ended: the failsafe (tiller-failsafe) took control (press again)");
+  EXPECT_EQ(w.test_refusals() + l.test_refusals() + a.test_refusals() + p.test_refusals(), 4);
+}
+
 }  // namespace
 }  // namespace tiller::safety

@@ -108,7 +108,10 @@ function render() {
   const arb = msg('TILLER_ARBITRATION'), mode = msg('TILLER_MODE');
   const modes = ['MANUAL_OPEN_LOOP', 'MANUAL_CLOSED_LOOP', 'WAYPOINTING', 'STABILISE', 'DEPTH_HOLD',
     'HEADING_HOLD', 'RATE', 'SURFACE', 'POSITION_HOLD'];
-  pill('mode', 'mode ' + (mode ? modes[mode.mode] : '?'), '');
+  // The mode in force (the arbitration's) and, when it differs, the request and why it is not.
+  const inForce = arb ? arb.mode : (mode ? mode.mode : null);
+  const asked = mode && arb && mode.mode !== arb.mode ? ' (asked ' + modes[mode.mode] + ': ' + arb.reason + ')' : '';
+  pill('mode', 'mode ' + (inForce === null ? '?' : modes[inForce]) + asked, asked ? 'warn' : '');
   const vs = msg('TILLER_VEHICLE_STATUS');
   pill('failsafe', vs ? (vs.active ? 'FAILSAFE: ' + vs.reason : 'no failsafe') : 'failsafes: no monitor', vs && vs.active ? 'bad' : '');
   const o = msg('TILLER_ODOMETRY');

@@ -139,7 +139,7 @@ for (const ev of ['pointerup', 'mouseup', 'touchend', 'blur']) window.addEventLi
 document.addEventListener('visibilitychange', () => { if (document.visibilityState !== 'visible') testUp(); });
 $('test_enable').onchange = (e) => {
   if (e.target.checked && !window.confirm('Thruster test: the chosen thruster spins while the button is held ' +
-      '(armed, with the pilot centred or no mission running). Are the propellers clear?')) e.target.checked = false;
+      '(armed, with the pilot centred or no mission running, no failsafe active). Are the propellers clear?')) e.target.checked = false;
   if (!e.target.checked) testUp();
   spin.disabled = !e.target.checked;
 };
