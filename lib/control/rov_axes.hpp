@@ -4,9 +4,17 @@
 //   kPilot  pilot pass-through: stick * pilot * the layout's largest force / moment that way
 //   kRate   velocity or rate: PI on (stick * max_rate - measured rate)
 //   kHold   hold a value; the pilot overrides it by moving the stick (the axis then tracks
-//           stick * max_rate as kRate does), and on release it brakes (rate setpoint 0) until
-//           the rate is under capture_rate (or capture_s has passed) and holds the value then
-//           (the new depth, heading, attitude or position)
+//           stick * max_rate as kRate does), and on release (or on entering the role while
+//           moving) it brakes: the rate setpoint ramps to 0 at max_accel (at once with
+//           max_accel 0), and once it is 0 the value is held as soon as the rate is under
+//           capture_rate (or capture_s has passed): the new depth, heading, attitude or
+//           position, where the vehicle stopped (a value captured while still moving, or a
+//           reference run ahead of a vehicle that lags it, would be passed and come back to).
+//           While braking the integral moves only from its value at the brake's start toward
+//           its value when the axis last held, not past it (rov_axes.cpp, brake_limited).
+// A rate setpoint (kRate, a kHold override or its brake) moves toward its goal by at most
+// max_accel per second (at once with 0), starting from the measured rate: no thrust step when
+// a stick is pressed or released.
 // What each axis measures (RovState, from TILLER_ODOMETRY):
 //   X, Y  hold: the NED position [north east] (held together: either stick moved overrides
 //         both), its error turned into the body frame by the heading, their integral kept in
@@ -50,6 +58,7 @@ struct RovGains {
   double capture_rate = 0;  // m/s or rad/s: below this after a release the new value is held
   double capture_s = 1.5;   // s: held at the latest this long after a release
   double max_angle = 0;     // roll, pitch: rad; a stick's rate stops at this angle (0: none)
+  double max_accel = 0;     // m/s^2 or rad/s^2: the rate setpoint's largest change (0: none)
 };
 
 // The vehicle's state as the controller sees it (odometry: NED pose, body FRD velocity).
@@ -77,6 +86,8 @@ class RovAxes {
   // True while an axis in kHold holds its target (not overridden, not braking).
   bool holding(int axis) const { return ax_[static_cast<std::size_t>(axis)].holding; }
   double target(int axis) const { return ax_[static_cast<std::size_t>(axis)].target; }
+  // The rate setpoint in force (kRate, a kHold override or its brake).
+  double setpoint(int axis) const { return ax_[static_cast<std::size_t>(axis)].sp; }
   double integral(int axis) const { return ax_[static_cast<std::size_t>(axis)].i; }
   // The force along NED down the Z law asks for (N), before it is turned into the body frame.
   double vertical_force() const { return vertical_; }
@@ -85,15 +96,27 @@ class RovAxes {
   struct Axis {
     AxisRole role = AxisRole::kOff;
     bool holding = false;      // kHold: holding the target
-    double since_release = 0;  // s braking
+    bool sp_set = false;       // sp has been started (from the measured rate)
+    bool braking = false;      // kHold: braking after a release or an entry
+    double i_hold = 0;         // the integral when the axis last held
+    double i_brake = 0;        // the integral when the brake began
+    double since_release = 0;  // s braking with the setpoint at 0
+    double sp = 0;             // the rate setpoint in force (ramped at max_accel)
     double target = 0;
     double i = 0;
   };
   // The axis' measured value (hold) and rate.
   static double value(int axis, const RovState& s);
   static double rate(int axis, const RovState& s);
+  // target - the measured value (wrapped for the heading).
+  static double error(int axis, const RovState& s, double target);
+  // A roll or pitch rate setpoint limited by max_angle (others unchanged).
+  double angle_limited(int a, double v_sp) const;
+  // hold: kp e - kd v + I with I += ki e dt; else kd (v_sp - v) + I, I += ki_rate ...
   double law(int a, double e, double v_sp, double v, bool hold, double dt, IntegratorRule rule,
              bool reduced);
+  void step_xy(const RovState& s, const std::array<double, 6>& stick, double dt,
+               IntegratorRule rule, const std::array<bool, 6>& reduced, std::array<double, 6>& out);
 
   std::array<RovGains, 6> g_;
   std::array<double, 6> max_plus_, max_minus_;
@@ -102,6 +125,7 @@ class RovAxes {
   double vertical_ = 0;
   std::array<double, 2> angle_now_{};  // roll, pitch of the step's state
   std::array<double, 2> i_ne_{};       // X and Y holding position: their integral in NED (N)
+  std::array<double, 2> i_ne_hold_{}, i_ne_brake_{};  // ... when last holding, at the brake
 };
 
 }  // namespace tiller::control

@@ -23,6 +23,7 @@ RovGains load_gains(const config::Value& v) {
   g.capture_rate = v.number_or("capture_rate", 0.05, Range::at_least(0));
   g.capture_s = v.number_or("capture_s", 1.5, {0, 60});
   g.max_angle = v.number_or("max_angle", 0, {0, 3.2});
+  g.max_accel = v.number_or("max_accel", 0, Range::at_least(0));
   return g;
 }
 

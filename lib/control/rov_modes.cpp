@@ -48,7 +48,7 @@ int rov_mode_from_name(const std::string& name) {
 }
 
 bool plan_rov_mode(std::int8_t mode, const std::array<bool, 6>& actuated, bool position_valid,
-                   const std::string& vehicle, ModePlan& plan, std::string& why) {
+                   bool depth_valid, const std::string& vehicle, ModePlan& plan, std::string& why) {
   char buf[200];
   auto refuse = [&](const char* text) {
     why.assign(text);
@@ -114,6 +114,10 @@ bool plan_rov_mode(std::int8_t mode, const std::array<bool, 6>& actuated, bool p
     return refuse("position hold refused: the odometry carries no valid position");
   for (std::size_t a = 0; a < 6; ++a)
     if (!actuated[a]) p.roles[a] = AxisRole::kOff;
+  if (uses_depth(p) && !depth_valid) {
+    std::snprintf(buf, sizeof buf, "%s refused: the odometry carries no valid depth", words);
+    return refuse(buf);
+  }
   plan = p;
   why.clear();
   return true;

@@ -16,6 +16,10 @@
 //                     heave
 //   POSITION_HOLD     north, east, depth and heading held (each overridden by its stick), level;
 //                     needs surge, sway, heave and yaw, and a valid position in the odometry
+// Of the odometry every assisted mode needs the attitude and rates; only the modes that use the
+// depth (depth hold, surface, position hold: uses_depth) need a valid depth, so heading hold,
+// stabilise and rate fly on an estimate without one (a lost pressure sensor, or a layout
+// without heave, such as the 4-thruster ROV).
 // A held axis is overridden by its stick and holds the new value on release (control/
 // rov_axes.hpp). An axis the layout cannot actuate (Allocator::unactuated) is never
 // controlled: kOff. A mode whose needs the layout does not meet is refused with a reason that
@@ -44,11 +48,17 @@ int rov_mode_from_name(const std::string& name);
 // Human words for the status line ("depth hold").
 const char* rov_mode_words(std::int8_t mode);
 
+// Whether a plan uses the depth (its heave axis holds it, or it surfaces).
+inline bool uses_depth(const ModePlan& p) {
+  return p.roles[2] == AxisRole::kHold || p.surface;
+}
+
 // The plan of `mode` (not MANUAL_OPEN_LOOP) on a layout where actuated[a] says axis a has
-// authority. Returns "" and fills `plan`, or the reason it is refused ("depth hold refused:
-// seed000_rov4 cannot actuate heave (Z)"), written into `why` (no allocation once `why` has
-// room: the node reserves it).
+// authority, with the odometry's position and depth valid or not. Returns true and fills
+// `plan`, or false with the reason it is refused ("depth hold refused: seed000_rov4 cannot
+// actuate heave (Z)", "depth hold refused: the odometry carries no valid depth") written into
+// `why` (no allocation once `why` has room: the node reserves it).
 bool plan_rov_mode(std::int8_t mode, const std::array<bool, 6>& actuated, bool position_valid,
-                   const std::string& vehicle, ModePlan& plan, std::string& why);
+                   bool depth_valid, const std::string& vehicle, ModePlan& plan, std::string& why);
 
 }  // namespace tiller::control

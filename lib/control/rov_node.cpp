@@ -21,11 +21,13 @@ std::array<double, 6> axis_max(const Allocator& a, int sign) {
 }
 
 constexpr std::size_t kReasonRoom = 256;
-// What the assisted modes need of an odometry message (odometry_t.valid): attitude and rates,
-// depth; position hold also the horizontal position and velocity.
-constexpr std::int32_t kNeeds = int{odometry_t::VALID_ATTITUDE} | int{odometry_t::VALID_DEPTH};
-constexpr std::int32_t kNeedsForPosition =
-    kNeeds | int{odometry_t::VALID_POSITION} | int{odometry_t::VALID_VELOCITY};
+// What the assisted modes need of an odometry message (odometry_t.valid): every one the attitude
+// and rates; the modes that use the depth (uses_depth) also the depth; position hold also the
+// horizontal position and velocity.
+constexpr std::int32_t kNeeds = odometry_t::VALID_ATTITUDE;
+constexpr std::int32_t kNeedsForPosition = kNeeds | int{odometry_t::VALID_DEPTH} |
+                                           int{odometry_t::VALID_POSITION} |
+                                           int{odometry_t::VALID_VELOCITY};
 
 }  // namespace
 
@@ -40,6 +42,7 @@ RovControlNode::RovControlNode(const RovControlParams& p, const Vehicle& vehicle
       axes_(p.axes, axis_max(*alloc_, 1), axis_max(*alloc_, -1)),
       mode_(controller_mode_t::MANUAL_OPEN_LOOP),
       odom_fresh_(from_seconds(p.odometry_timeout_s)),
+      depth_fresh_(from_seconds(p.odometry_timeout_s)),
       manual_fresh_(from_seconds(p.input_timeout_s)),
       alloc_fresh_(from_seconds(p.allocation_timeout_s)),
       cmd_fresh_(from_seconds(p.allocation_timeout_s)) {
@@ -70,7 +73,8 @@ RovControlNode::RovControlNode(const RovControlParams& p, const Vehicle& vehicle
   set_reason("manual: the stick straight to the mixer");
   if (p_.default_mode != controller_mode_t::MANUAL_OPEN_LOOP) {
     ModePlan plan;
-    if (!plan_rov_mode(p_.default_mode, actuated_, false, vehicle_name_, plan, refusal_))
+    // No odometry yet: a default mode that uses the depth waits for it (neutral until then).
+    if (!plan_rov_mode(p_.default_mode, actuated_, false, true, vehicle_name_, plan, refusal_))
       throw config::Error("rov_control.default_mode: " + refusal_);
     switch_to(p_.default_mode, plan, 0);
     blending_ = false;
@@ -101,7 +105,8 @@ void RovControlNode::on_mode(const controller_mode_t& m, TimeUs now) {
   requested_ = m.mode;
   ModePlan plan;
   if (m.mode == controller_mode_t::MANUAL_OPEN_LOOP ||
-      plan_rov_mode(m.mode, actuated_, position_valid(now), vehicle_name_, plan, refusal_)) {
+      plan_rov_mode(m.mode, actuated_, position_valid(now), depth_fresh_.fresh(now), vehicle_name_,
+                    plan, refusal_)) {
     switch_to(m.mode, plan, now);
     return;
   }
@@ -156,16 +161,23 @@ void RovControlNode::on_odometry(const odometry_t& m, TimeUs now) {
     reject(std::string_view(why).ends_with(".nan") ? *nan_odometry_ : *range_odometry_);
     return;
   }
-  // Without a valid attitude (and rates) and depth the message is not taken: the odometry goes
-  // stale, so the assisted modes give an invalid wrench (neutral through the mixer's gate).
-  if ((m.valid & kNeeds) != kNeeds) {
+  // Without a valid attitude (and rates) the message is not taken: the odometry goes stale, so
+  // the assisted modes give an invalid wrench (neutral through the mixer's gate). Without a
+  // valid depth it is taken but its depth is not: the depth goes stale, which only the modes
+  // that use it see (counted when the mode in force is one of them).
+  const bool depth_ok = (m.valid & odometry_t::VALID_DEPTH) != 0;
+  const bool assisted = mode_ != controller_mode_t::MANUAL_OPEN_LOOP;
+  if ((m.valid & kNeeds) != kNeeds || (!depth_ok && assisted && uses_depth(plan_))) {
     ++*invalid_odometry_;
-    return;
+    if ((m.valid & kNeeds) != kNeeds) return;
   }
   odom_ = m;
   state_.north = m.position[0];
   state_.east = m.position[1];
-  state_.depth = m.position[2];
+  if (depth_ok) {
+    state_.depth = m.position[2];
+    depth_fresh_.mark(now, m.utime, clock_offset());
+  }
   state_.roll = m.orientation[0];
   state_.pitch = m.orientation[1];
   state_.yaw = m.orientation[2];
@@ -237,9 +249,9 @@ void RovControlNode::on_tick(TimeUs now) {
     publish(now, wrench_t::SOURCE_MANUAL_DEMAND, false);
     return;
   }
-  if (!odom_ok || !pilot_ok) {
-    // No state or no pilot: an invalid wrench, so neutral through the mixer's gate (input
-    // lost, then its disarm).
+  if (!odom_ok || !pilot_ok || (uses_depth(plan_) && !depth_fresh_.fresh(now))) {
+    // No state (or no depth, in a mode that uses it) or no pilot: an invalid wrench, so neutral
+    // through the mixer's gate (input lost, then its disarm).
     last_out_ = {};
     publish(now, wrench_t::SOURCE_ROV_CONTROL, false);
     return;

@@ -14,8 +14,10 @@
 // The thrust still leaves neutral only through the mixer's intent gate (lib/safety): these modes
 // belong to the pilot (the stick must be centred after arming, the stick's loss is an input
 // loss), and the wrench is invalid (so neutral, then the gate's disarm) while the pilot's demand
-// or the odometry is stale or invalid (odometry_t.valid without ATTITUDE and DEPTH is not
-// taken, counted in odometry.invalid; position hold also needs POSITION and VELOCITY).
+// or the odometry is stale or invalid (odometry_t.valid without ATTITUDE is not taken, counted
+// in odometry.invalid; the modes that use the depth, control/rov_modes.hpp uses_depth, also
+// need DEPTH, and position hold POSITION and VELOCITY; heading hold, stabilise and rate fly
+// without a depth). A mode whose depth or position is not valid at the request is refused.
 // Requests: a TILLER_MODE is acted on when it differs from the previous request (the teleop
 // repeats its mode every second); a mode the layout cannot fly (the axes it needs are
 // unactuated in the vehicle's effectiveness matrix, or position hold without a valid position)
@@ -91,7 +93,7 @@ class RovControlNode : public Node {
   TimeUs blend_start_ = 0;
   std::array<double, 6> from_{}, last_out_{};
   // Inputs.
-  Freshness odom_fresh_, manual_fresh_, alloc_fresh_, cmd_fresh_;
+  Freshness odom_fresh_, depth_fresh_, manual_fresh_, alloc_fresh_, cmd_fresh_;
   odometry_t odom_{};
   RovState state_;
   std::array<double, 6> stick_{};

@@ -15,7 +15,9 @@
 // ("event.<name>"). Bad input (core/message_checks.hpp) is dropped and counted
 // (rejected.power.invalid, rejected.leak.invalid, rejected.gnss.invalid,
 // rejected.odometry.invalid, rejected.mission_command.invalid); an input older than its limit
-// by its utime is refused (rejected.<input>.stale / .future).
+// by its utime is refused (rejected.<input>.stale / .future). A well-formed odometry whose depth
+// is flagged invalid is no depth reading: the depth rule keeps its last verdict (monitor.hpp),
+// the message counted in odometry.depth_invalid, the heartbeat DEGRADED while it lasts.
 #pragma once
 
 #include <array>
@@ -68,6 +70,7 @@ class FailsafeNode : public Node {
   std::int8_t health_ = -1;
   std::int64_t *bad_power_, *bad_leak_, *bad_gnss_, *bad_odometry_, *bad_command_;
   std::int64_t* disarm_requests_;
+  std::int64_t* depth_invalid_;  // odometry.depth_invalid: messages whose depth the rule skips
   std::array<std::int64_t*, 6> event_counters_{};
 };
 

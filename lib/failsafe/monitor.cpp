@@ -151,13 +151,14 @@ void Monitor::on_gnss(std::int8_t fix_type, double std_m, TimeUs now) {
 }
 
 void Monitor::on_odometry(double n, double e, double d, double vn, double ve, bool valid,
-                          TimeUs now) {
+                          bool depth_valid, TimeUs now) {
   if (valid) odom_valid_at_ = now;
   have_odom_ = true;
   odom_at_ = now;
   n_ = n;
   e_ = e;
-  d_ = d;
+  depth_valid_ = depth_valid;
+  if (depth_valid) d_ = d;
   vn_ = vn;
   ve_ = ve;
 }
@@ -262,13 +263,16 @@ const Status& Monitor::step(TimeUs now) {
           std::fabs(fence_d_), fence_hold_ ? ", holding (a START or RESUME ends it)" : "");
   }
   const DepthParams& d = p_.depth;
-  if (d.enabled && odom_fresh) {
+  if (d.enabled && odom_fresh && depth_valid_) {
     if (d_ > d.limit_m) deep_ = true;
     if (d_ < d.limit_m - d.hysteresis_m) deep_ = false;
   }
   if (d.enabled && deep_) {
     s.latched |= kDepthLimit;
-    raise(kDepthLimit, Action::kRise, true, "depth %.1f m > limit %.1f m: rising", d_, d.limit_m);
+    raise(kDepthLimit, Action::kRise, true,
+          depth_valid_ ? "depth %.1f m > limit %.1f m: rising"
+                       : "depth unknown (last %.1f m > limit %.1f m): rising",
+          d_, d.limit_m);
   }
 
   s.action = act;

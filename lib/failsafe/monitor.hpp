@@ -19,7 +19,11 @@
 //                            nearest edge) and its position lookahead_s ahead is within margin_m
 //                            of the edge or outside.
 //   depth limit              deeper than limit_m; ends above limit_m - hysteresis_m. Action:
-//                            RISE (up-thrust) while it holds.
+//                            RISE (up-thrust) while it holds. A depth the odometry flags invalid
+//                            (VALID_DEPTH clear) is no reading, as stale odometry: the rule keeps
+//                            its last verdict (a rise goes on: the vehicle was too deep when the
+//                            depth was last known, and up is the safe way; none starts on it),
+//                            and depth_known() says so (the node counts and reports it).
 // Frames and units: positions local NED (m), velocity NED (m/s), depth down (m), volts, seconds
 // as TimeUs. The action in force is the most severe of the events' actions, in the order
 // NONE < WARN < HOLD < NEUTRAL < RISE < SURFACE < DISARM.
@@ -130,9 +134,10 @@ class Monitor {
   // A fix: good (fix type, accuracy) as gnss_good() says.
   void on_gnss(std::int8_t fix_type, double horizontal_std_m, TimeUs now);
   // Odometry: position (n, e, d) m NED, velocity over ground (vn, ve) m/s NED, and whether its
-  // position is valid (the estimator's flag; the simulator's is always valid).
+  // position and its depth are valid (the estimator's flags; the simulator's are always valid).
+  // An invalid depth is not taken (the depth rule keeps its verdict).
   void on_odometry(double n, double e, double d, double vn, double ve, bool position_valid,
-                   TimeUs now);
+                   bool depth_valid, TimeUs now);
   // The operator's START or RESUME: ends a geofence action (it comes back at once if the
   // vehicle still moves outward near the edge).
   void on_operator_go(TimeUs now);
@@ -142,6 +147,8 @@ class Monitor {
   bool gnss_good(std::int8_t fix_type, double horizontal_std_m) const;
   const MonitorParams& params() const { return p_; }
   double distance_to_fence() const { return fence_d_; }  // m, + inside (when known)
+  // False while the latest odometry's depth is invalid (the depth rule cannot judge).
+  bool depth_known() const { return depth_valid_; }
 
  private:
   struct Below {  // a level with hysteresis and a trigger time
@@ -179,6 +186,7 @@ class Monitor {
   bool fence_hold_ = false;
   bool near_fence_ = false;
   bool deep_ = false;
+  bool depth_valid_ = false;  // the latest odometry's VALID_DEPTH; d_ is the last valid depth
   char reason_[128] = {};
   char last_reason_[128] = {};
 };

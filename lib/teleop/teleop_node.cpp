@@ -250,7 +250,13 @@ void TeleopNode::on_press(int b, TimeUs now) {
   }
   if (b == k.gain_up || b == k.gain_down) {
     const double g = gain_ + (b == k.gain_up ? p_.gain_step : -p_.gain_step);
-    gain_ = std::clamp(g, p_.gain_min, p_.gain_max);
+    constexpr double kSlack = 1e-9;  // steps of 0.25 land on the limits exactly or nearly
+    if (p_.gain_wrap && g > p_.gain_max + kSlack && gain_ >= p_.gain_max - kSlack)
+      gain_ = p_.gain_min;
+    else if (p_.gain_wrap && g < p_.gain_min - kSlack && gain_ <= p_.gain_min + kSlack)
+      gain_ = p_.gain_max;
+    else
+      gain_ = std::clamp(g, p_.gain_min, p_.gain_max);
   }
   update_health();
 }

@@ -119,6 +119,7 @@ TeleopParams load_teleop(const config::Value& root) {
     p.gain_max = g->number_or("max", p.gain_max, {p.gain_min, 1.0});
     p.gain_initial = g->number_or("initial", p.gain_max, {p.gain_min, p.gain_max});
     p.gain_step = g->number_or("step", p.gain_step, {0.0, 1.0});
+    p.gain_wrap = g->boolean_or("wrap", false);
   }
   if (auto c = root.find("closed_loop")) {
     const auto v = c->numbers("max_speed", 3, {0.0, 10.0});

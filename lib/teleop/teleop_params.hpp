@@ -64,6 +64,9 @@ struct TeleopParams {
   TeleopButtons buttons;
   TimeUs debounce = 30'000;  // a button change counts once stable this long
   double gain_initial = 1.0, gain_step = 0.25, gain_min = 0.25, gain_max = 1.0;
+  // gain.wrap: a step past gain_max goes to gain_min (and below gain_min to gain_max), so one
+  // button (gain_up alone) cycles the gain on a stick with no button to spare.
+  bool gain_wrap = false;
   // Closed-loop manual (seed 004's manual cmd_vel / cmd_torque), full stick = these.
   std::array<double, 3> max_speed{0.5, 0.5, 0.3};  // [u v w] m/s
   double max_yaw_rate = 0.5;                       // rad/s

@@ -96,6 +96,51 @@ TEST(RovAxes, TheStickOverridesAHoldAndReleaseHoldsTheNewValue) {
   EXPECT_DOUBLE_EQ(a.target(5), 0.52);
 }
 
+// With max_accel the rate setpoint ramps (both ways: no output step) and a release brakes to
+// rest before the value is held, so the target is where the vehicle stopped: a vehicle that
+// follows the setpoint exactly is held with no error, and the output changes by at most
+// kd * max_accel * dt per step. Without max_accel the release steps the output by kd * rate.
+TEST(RovAxes, ARampedReleaseHoldsWhereTheVehicleStops) {
+  std::array<RovGains, 6> g{};
+  g[5] = {1.0, 10, 1, 2, 4, 5, 100, 0.5, 0.0, 1.5, 0, 1.0};  // yaw: capture at rest, 1 rad/s^2
+  RovAxes a(g, {1, 1, 1, 1, 1, 20}, {1, 1, 1, 1, 1, 20});
+  a.set_roles({O, O, O, O, O, H}, false);
+  RovState s;
+  const double dt = 0.02;
+  a.step(s, {}, dt, IntegratorRule::kReset, kNone);  // holds 0
+  double last = 0, worst = 0;
+  auto step = [&](double stick) {
+    const double out = a.step(s, {0, 0, 0, 0, 0, stick}, dt, IntegratorRule::kFreeze, kNone)[5];
+    worst = std::max(worst, std::fabs(out - last));
+    last = out;
+    s.nu[5] = a.setpoint(5);  // the vehicle follows the setpoint exactly
+    s.yaw += s.nu[5] * dt;
+  };
+  for (int k = 0; k < 50; ++k) step(1.0);
+  EXPECT_NEAR(a.setpoint(5), 0.5, 1e-12);  // 0.02 per step, at max_rate after 25
+  const double released = s.yaw;
+  for (int k = 0; k < 25; ++k) step(0.0);
+  EXPECT_EQ(a.setpoint(5), 0.0);
+  EXPECT_FALSE(a.holding(5));  // the rate it measured was still 0.02
+  step(0.0);
+  ASSERT_TRUE(a.holding(5));
+  // It turned 0.02 * (0.48 + 0.46 + ... + 0.02) = 0.12 rad after the release, and is held there.
+  EXPECT_NEAR(s.yaw, released + 0.12, 1e-12);
+  EXPECT_DOUBLE_EQ(a.target(5), s.yaw);
+  EXPECT_LE(worst, 2 * 1.0 * dt + 1e-12);  // kd * max_accel * dt
+  step(0.0);
+  EXPECT_NEAR(last, 0.0, 1e-12);
+  // Without max_accel the same release brakes at once: the output steps by kd * 0.5.
+  g[5].max_accel = 0;
+  RovAxes b(g, {1, 1, 1, 1, 1, 20}, {1, 1, 1, 1, 1, 20});
+  b.set_roles({O, O, O, O, O, H}, false);
+  RovState t;
+  t.nu[5] = 0.5;
+  const double turning = b.step(t, {0, 0, 0, 0, 0, 1}, dt, IntegratorRule::kFreeze, kNone)[5];
+  const double braking = b.step(t, {}, dt, IntegratorRule::kFreeze, kNone)[5];
+  EXPECT_NEAR(turning - braking, 2 * 0.5, 1e-12);
+}
+
 TEST(RovAxes, HeaveActsAlongTheVertical) {
   RovAxes a = make();
   a.set_roles({P, O, R, O, O, O}, false);
@@ -113,22 +158,31 @@ TEST(RovModes, PlansFollowTheLayoutAndRefusalsNameTheAxis) {
   const std::array<bool, 6> rov6{true, true, true, false, true, true};
   ModePlan p;
   std::string why;
-  EXPECT_TRUE(plan_rov_mode(M::HEADING_HOLD, rov4, false, "rov4", p, why)) << why;
+  EXPECT_TRUE(plan_rov_mode(M::HEADING_HOLD, rov4, false, false, "rov4", p, why)) << why;
   EXPECT_EQ(p.roles, (std::array<AxisRole, 6>{P, P, O, O, O, H}));
-  EXPECT_FALSE(plan_rov_mode(M::DEPTH_HOLD, rov4, true, "rov4", p, why));
+  EXPECT_FALSE(plan_rov_mode(M::DEPTH_HOLD, rov4, true, true, "rov4", p, why));
   EXPECT_EQ(why, "depth hold refused: rov4 cannot actuate heave (Z)");
-  EXPECT_FALSE(plan_rov_mode(M::STABILISE, rov4, true, "rov4", p, why));
+  EXPECT_FALSE(plan_rov_mode(M::STABILISE, rov4, true, true, "rov4", p, why));
   EXPECT_EQ(why, "stabilise refused: rov4 cannot actuate roll (K) or pitch (M)");
-  EXPECT_TRUE(plan_rov_mode(M::STABILISE, rov6, false, "rov6", p, why));
+  EXPECT_TRUE(plan_rov_mode(M::STABILISE, rov6, false, true, "rov6", p, why));
   EXPECT_EQ(p.roles, (std::array<AxisRole, 6>{P, P, P, O, H, R}));
   EXPECT_TRUE(p.level);
-  EXPECT_TRUE(plan_rov_mode(M::RATE, rov6, false, "rov6", p, why));
+  EXPECT_TRUE(plan_rov_mode(M::RATE, rov6, false, true, "rov6", p, why));
   EXPECT_EQ(p.roles, (std::array<AxisRole, 6>{P, P, P, O, R, R}));
-  EXPECT_FALSE(plan_rov_mode(M::POSITION_HOLD, rov6, false, "rov6", p, why));
+  EXPECT_FALSE(plan_rov_mode(M::POSITION_HOLD, rov6, false, true, "rov6", p, why));
   EXPECT_EQ(why, "position hold refused: the odometry carries no valid position");
-  EXPECT_TRUE(plan_rov_mode(M::POSITION_HOLD, rov6, true, "rov6", p, why));
+  EXPECT_TRUE(plan_rov_mode(M::POSITION_HOLD, rov6, true, true, "rov6", p, why));
   EXPECT_EQ(p.roles, (std::array<AxisRole, 6>{H, H, H, O, H, H}));
-  EXPECT_FALSE(plan_rov_mode(M::MANUAL_CLOSED_LOOP, rov6, true, "rov6", p, why));
+  EXPECT_FALSE(plan_rov_mode(M::MANUAL_CLOSED_LOOP, rov6, true, true, "rov6", p, why));
+  // Without a valid depth: what uses it is refused, what does not flies (heading hold on the
+  // 4-thruster ROV above, stabilise and rate here).
+  for (std::int8_t m : {M::DEPTH_HOLD, M::SURFACE, M::POSITION_HOLD}) {
+    EXPECT_FALSE(plan_rov_mode(m, rov6, true, false, "rov6", p, why));
+    EXPECT_EQ(why,
+              std::string(rov_mode_words(m)) + " refused: the odometry carries no valid depth");
+  }
+  for (std::int8_t m : {M::STABILISE, M::HEADING_HOLD, M::RATE})
+    EXPECT_TRUE(plan_rov_mode(m, rov6, false, false, "rov6", p, why)) << why;
   EXPECT_EQ(rov_mode_from_name("depth_hold"), M::DEPTH_HOLD);
   EXPECT_EQ(rov_mode_from_name("deep"), -1);
 }

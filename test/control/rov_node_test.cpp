@@ -1,7 +1,10 @@
 // tiller-rov-control's node and odometry_t.valid: an estimate without a valid depth (a pressure
 // sensor lost) is not taken, so depth hold's wrench goes invalid (neutral through the mixer's
 // gate) within the odometry freshness limit, counted in odometry.invalid, not as a bad message;
-// position hold is refused while the estimate has no valid position (no GNSS, no DVL).
+// position hold is refused while the estimate has no valid position (no GNSS, no DVL). The modes
+// that do not use the depth (heading hold, stabilise, rate) fly without one: heading hold on the
+// 4-thruster ROV, which has no heave, and on the 6-thruster one with its pressure sensor lost;
+// one that uses it is refused while it is invalid.
 #include <gtest/gtest.h>
 
 #include <tiller/arbitration_t.hpp>
@@ -22,6 +25,7 @@ namespace tiller::control {
 namespace {
 
 const std::string kRov6 = std::string(TILLER_SOURCE_DIR) + "/config/control/seed001_rov6.yaml";
+const std::string kRov4 = std::string(TILLER_SOURCE_DIR) + "/config/control/seed000_rov4.yaml";
 
 struct Rig {
   explicit Rig(const RovControlParams& p = load_rov_control_file(kRov6)) : node(p), ex(0) {
@@ -51,6 +55,7 @@ struct Rig {
       o.utime = t;
       o.valid = t < t_lost ? valid_before : valid_after;
       o.position[2] = t < 500'000 ? 2.0 : 1.5;
+      o.orientation[2] = t < 500'000 ? 0.0 : -0.2;  // turned 0.2 rad anticlockwise after 0.5 s
       ex.inject(channels::kOdometry, o, t);
     }
   }
@@ -70,6 +75,7 @@ struct Rig {
 constexpr std::int32_t kAll = odometry_t::VALID_ALL;
 constexpr std::int32_t kNoDepth = int{odometry_t::VALID_ALL} & ~int{odometry_t::VALID_DEPTH};
 constexpr std::int32_t kNoPosition = int{odometry_t::VALID_ATTITUDE} | int{odometry_t::VALID_DEPTH};
+constexpr std::int32_t kAttitudeOnly = odometry_t::VALID_ATTITUDE;
 
 TEST(RovControlNode, DepthHoldGoesNeutralWhenTheDepthIsNoLongerValid) {
   Rig r;
@@ -96,6 +102,42 @@ TEST(RovControlNode, PositionHoldRefusedWithoutAValidPosition) {
   EXPECT_EQ(r.node.counter_value("mode.refused"), 1);
   EXPECT_NE(r.arb.mode, controller_mode_t::POSITION_HOLD);
   EXPECT_NE(std::string(r.arb.reason).find("still in"), std::string::npos) << r.arb.reason;
+}
+
+// Heading hold uses the attitude only: on an estimate without a depth it holds the heading (the
+// old node took no such message and gave an invalid, neutral wrench).
+TEST(RovControlNode, HeadingHoldFliesWithoutADepth) {
+  for (const std::string& file : {kRov4, kRov6}) {
+    Rig r(load_rov_control_file(file));
+    r.feed(0, 2'000'000, kAttitudeOnly, kAttitudeOnly, 0);
+    r.request(controller_mode_t::HEADING_HOLD, 100'000);
+    r.ex.run_until(1'900'000);
+    EXPECT_EQ(r.arb.mode, controller_mode_t::HEADING_HOLD) << file << ": " << r.arb.reason;
+    EXPECT_EQ(r.arb.active_source, wrench_t::SOURCE_ROV_CONTROL) << file;
+    EXPECT_TRUE(r.wrench.valid) << file;
+    // Held at 0 (captured at rest before 0.5 s), now 0.2 rad anticlockwise: turning back, N m.
+    EXPECT_TRUE(r.node.axes().holding(5)) << file;
+    EXPECT_GT(r.wrench.tau[5], 1.0) << file;
+    EXPECT_EQ(r.node.counter_value("odometry.invalid"), 0) << file;
+  }
+}
+
+// Stabilise flies on the 6-thruster ROV without a depth; depth hold is refused while there is
+// none, naming why, and the mode in force is kept.
+TEST(RovControlNode, WithoutADepthStabiliseFliesAndDepthHoldIsRefused) {
+  Rig r;
+  r.feed(0, 2'000'000, kAttitudeOnly, kAttitudeOnly, 0);
+  r.request(controller_mode_t::STABILISE, 100'000);
+  r.ex.run_until(900'000);
+  EXPECT_EQ(r.arb.mode, controller_mode_t::STABILISE) << r.arb.reason;
+  EXPECT_TRUE(r.wrench.valid);
+  r.request(controller_mode_t::DEPTH_HOLD, 1'000'000);
+  r.ex.run_until(1'900'000);
+  EXPECT_EQ(r.arb.mode, controller_mode_t::STABILISE);
+  EXPECT_EQ(std::string(r.arb.reason),
+            "depth hold refused: the odometry carries no valid depth; still in stabilise");
+  EXPECT_EQ(r.node.counter_value("mode.refused"), 1);
+  EXPECT_TRUE(r.wrench.valid);
 }
 
 }  // namespace

@@ -4,7 +4,8 @@
 // let go at surface.depth_m). The issue sets no position-hold or surface number; these assert
 // the other holds' limits (depth <= 2 cm RMS, heading <= 1 deg RMS), a horizontal error
 // <= 10 cm RMS, the surface speed within 10 % and roll and pitch within 2 deg while rising.
-// Each prints its numbers (docs/flying.md, "ROV modes", has the table).
+// Each prints its numbers (docs/flying.md, "ROV modes", has the table). Last, every mode from
+// the presets' buttons.
 #include <gtest/gtest.h>
 
 #include <algorithm>
@@ -84,6 +85,30 @@ TEST(RovModes, SurfaceRisesAtItsSpeedLevel) {
         v, rise, speed, top, t_top, rad_to_deg(tilt));
     EXPECT_NEAR(rise, speed, 0.1 * speed);
     EXPECT_LE(rad_to_deg(tilt), 2.0);
+  }
+}
+
+// Every mode from the joystick stream (the preset's buttons through the teleop, as a pilot
+// flies it; the other tests here switch by command): the mode in force follows each button and
+// the mixer allocates tiller-rov-control's wrench in every assisted mode.
+TEST(RovModes, EveryModeFromThePresetsButtons) {
+  const struct {
+    int button;  // js number
+    std::int8_t mode;
+  } presses[] = {{9, M::STABILISE},     {10, M::DEPTH_HOLD}, {11, M::HEADING_HOLD},   {0, M::RATE},
+                 {3, M::POSITION_HOLD}, {7, M::SURFACE},     {8, M::MANUAL_OPEN_LOOP}};
+  for (const char* v : {"seed001_rov6", "bluerov2"}) {
+    RovRig r(setup(v));
+    for (const auto& p : presses) {
+      r.f.press(p.button);
+      r.run(1'500);
+      EXPECT_EQ(r.rov.mode(), p.mode) << v << ", button " << p.button << ": " << r.rov.reason();
+      EXPECT_EQ(r.f.mixer.active_source(), p.mode == M::MANUAL_OPEN_LOOP
+                                               ? wrench_t::SOURCE_MANUAL_DEMAND
+                                               : wrench_t::SOURCE_ROV_CONTROL)
+          << v << ", button " << p.button;
+    }
+    EXPECT_EQ(r.rov.counter_value("mode.refused"), 0) << v;
   }
 }
 

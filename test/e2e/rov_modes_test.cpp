@@ -229,23 +229,6 @@ TEST(RovModes, TheFourThrusterRovIsRefusedWhatNeedsHeaveRollOrPitch) {
   EXPECT_EQ(r.f.mixer.active_source(), wrench_t::SOURCE_ROV_CONTROL);
 }
 
-// Largest change of any thruster's thrust (N, the simulator's target from the ESC output)
-// between two 10 ms samples over `ms`.
-double thrust_step(RovRig& r, int ms) {
-  const int n = r.sim.vehicle().size();
-  std::vector<double> before(static_cast<std::size_t>(n));
-  for (int i = 0; i < n; ++i) before[static_cast<std::size_t>(i)] = r.sim.commanded_thrust(i);
-  double worst = 0;
-  r.run(ms, [&] {
-    for (int i = 0; i < n; ++i) {
-      const double t = r.sim.commanded_thrust(i);
-      worst = std::max(worst, std::fabs(t - before[static_cast<std::size_t>(i)]));
-      before[static_cast<std::size_t>(i)] = t;
-    }
-  });
-  return worst;
-}
-
 // Every switch, with the stick held half forward and full up: the thrust moves by at most 2 N
 // (5.5 % of a thruster's 36 N) per 10 ms (blend_s 0 shows what an unblended switch does:
 // 62 N; 0.5 s gave 5.2 N).
@@ -261,13 +244,13 @@ TEST(RovModes, NoThrustStepOnASwitch) {
     r.f.js.axes[1] = -16384;  // half forward
     r.f.js.axes[5] = -32767;  // hat up: climb
     r.run(1'000);
-    const double steady = thrust_step(r, 2'000);
+    const double steady = e2e::thrust_step(r, 2'000);
     double worst = 0;
     std::string at;
     for (std::int8_t m : {M::STABILISE, M::DEPTH_HOLD, M::HEADING_HOLD, M::RATE, M::POSITION_HOLD,
                           M::SURFACE, M::MANUAL_OPEN_LOOP}) {
       r.command(m);
-      const double s = thrust_step(r, 2'000);
+      const double s = e2e::thrust_step(r, 2'000);
       std::printf("blend %.1f s: switch to %-13s largest thrust step %.2f N per 10 ms\n", blend,
                   control::rov_mode_name(m), s);
       if (s > worst) {

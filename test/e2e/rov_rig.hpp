@@ -127,6 +127,24 @@ struct RovRig {
   TimeUs max_step_at = 0;
 };
 
+// Largest change of any thruster's thrust (N, the simulator's target from the ESC output)
+// between two 10 ms samples over `ms`, calling `each` (if any) after every sample.
+inline double thrust_step(RovRig& r, int ms, const std::function<void()>& each = {}) {
+  const int n = r.sim.vehicle().size();
+  std::vector<double> before(static_cast<std::size_t>(n));
+  for (int i = 0; i < n; ++i) before[static_cast<std::size_t>(i)] = r.sim.commanded_thrust(i);
+  double worst = 0;
+  r.run(ms, [&] {
+    for (int i = 0; i < n; ++i) {
+      const double t = r.sim.commanded_thrust(i);
+      worst = std::max(worst, std::fabs(t - before[static_cast<std::size_t>(i)]));
+      before[static_cast<std::size_t>(i)] = t;
+    }
+    if (each) each();
+  });
+  return worst;
+}
+
 // Peak-to-peak of a series.
 inline double p2p(const std::vector<double>& v) {
   if (v.empty()) return 0;

@@ -240,7 +240,7 @@ TEST(Gnss, OdometryPositionValidity) {
   Monitor m(p);
   double lost_at = -1;
   for (TimeUs t = 0; t <= at(20); t += kTick) {
-    m.on_odometry(0, 0, 0, 0, 0, t <= at(8), t);  // position flagged invalid after 8 s
+    m.on_odometry(0, 0, 0, 0, 0, t <= at(8), true, t);  // position flagged invalid after 8 s
     if ((m.step(t).active & kGnssLost) != 0 && lost_at < 0) lost_at = to_seconds(t);
   }
   EXPECT_NEAR(lost_at, 13.0, 1e-9);
@@ -283,14 +283,14 @@ TEST(Geofence, HoldsWhenTheLookaheadReachesTheMarginMovingOutward) {
   double hold_at = -1;
   for (TimeUs t = 0; t <= at(12); t += kTick) {
     const double n = 80 + 1.5 * to_seconds(t);
-    m.on_odometry(n, 50, 0, 1.5, 0, true, t);
+    m.on_odometry(n, 50, 0, 1.5, 0, true, true, t);
     if (m.step(t).action == Action::kHold && hold_at < 0) hold_at = to_seconds(t);
   }
   EXPECT_NEAR(hold_at, 10.7, 1e-9);
   // Stopped at n = 98.5 (inside the margin? no: 1.5 m from the edge): the hold stays (latched)
   // until the operator's go.
   for (TimeUs t = at(12.1); t <= at(20); t += kTick) {
-    m.on_odometry(98.5, 50, 0, 0, 0, true, t);
+    m.on_odometry(98.5, 50, 0, 0, 0, true, true, t);
     m.step(t);
   }
   EXPECT_EQ(m.status().action, Action::kHold);
@@ -299,27 +299,27 @@ TEST(Geofence, HoldsWhenTheLookaheadReachesTheMarginMovingOutward) {
   m.on_operator_go(at(20));
   EXPECT_EQ(m.step(at(20.1)).action, Action::kNone);
   // Moving inward (south) from there: no hold. Outward again: at once.
-  m.on_odometry(98.5, 50, 0, -1.0, 0, true, at(20.2));
+  m.on_odometry(98.5, 50, 0, -1.0, 0, true, true, at(20.2));
   EXPECT_EQ(m.step(at(20.2)).action, Action::kNone);
-  m.on_odometry(98.5, 50, 0, 0.5, 0, true, at(20.3));
+  m.on_odometry(98.5, 50, 0, 0.5, 0, true, true, at(20.3));
   EXPECT_EQ(m.step(at(20.3)).action, Action::kHold);
 }
 
 TEST(Geofence, OutsideIsAnEventAndMovingFurtherOutHolds) {
   Monitor m(fence_params());
-  m.on_odometry(105, 50, 0, 0, 0, true, 0);
+  m.on_odometry(105, 50, 0, 0, 0, true, true, 0);
   const Status& s = m.step(0);
   EXPECT_NE(s.active & kGeofence, 0);
   EXPECT_EQ(s.action, Action::kNone);  // at rest outside: reported; it may come back in
   EXPECT_STREQ(s.reason, "geofence: 5.0 m outside");
-  m.on_odometry(105, 50, 0, 0.2, 0, true, at(0.1));
+  m.on_odometry(105, 50, 0, 0.2, 0, true, true, at(0.1));
   EXPECT_EQ(m.step(at(0.1)).action, Action::kHold);
   EXPECT_STREQ(m.status().reason, "geofence: 5.0 m outside, holding (a START or RESUME ends it)");
 }
 
 TEST(Geofence, SlowDriftBelowTheOutwardSpeedIsNotAHold) {
   Monitor m(fence_params());
-  m.on_odometry(99.5, 50, 0, 0.04, 0, true, 0);  // within the margin, 0.04 m/s < 0.05
+  m.on_odometry(99.5, 50, 0, 0.04, 0, true, true, 0);  // within the margin, 0.04 m/s < 0.05
   EXPECT_EQ(m.step(0).action, Action::kNone);
   EXPECT_NE(m.status().active & kGeofence, 0);
 }
@@ -331,7 +331,7 @@ TEST(Depth, RiseBelowTheLimitUntilAboveItMinusTheHysteresis) {
   p.depth.hysteresis_m = 0.5;
   Monitor m(p);
   auto at_depth = [&](double d, double s) {
-    m.on_odometry(0, 0, d, 0, 0, true, at(s));
+    m.on_odometry(0, 0, d, 0, 0, true, true, at(s));
     return m.step(at(s)).action;
   };
   EXPECT_EQ(at_depth(9.9, 0), Action::kNone);
@@ -342,6 +342,31 @@ TEST(Depth, RiseBelowTheLimitUntilAboveItMinusTheHysteresis) {
   EXPECT_NE(m.status().latched & kDepthLimit, 0);
 }
 
+// An invalid depth (VALID_DEPTH clear: a lost pressure sensor; its number is whatever the
+// estimator last had) is no reading: no rise starts on it, and a rise in force goes on until a
+// valid depth says the vehicle is above the limit less the hysteresis. The old rule took the
+// number: it rose on the invalid 50 m and stopped on the invalid 0 m.
+TEST(Depth, AnInvalidDepthIsUnknownAndKeepsTheLastVerdict) {
+  MonitorParams p;
+  p.depth.enabled = true;
+  p.depth.limit_m = 10;
+  p.depth.hysteresis_m = 0.5;
+  Monitor m(p);
+  auto at_depth = [&](double d, bool valid, double s) {
+    m.on_odometry(0, 0, d, 0, 0, true, valid, at(s));
+    return m.step(at(s)).action;
+  };
+  EXPECT_EQ(at_depth(9.0, true, 0), Action::kNone);
+  EXPECT_EQ(at_depth(50.0, false, 1), Action::kNone);  // garbage: no rise
+  EXPECT_FALSE(m.depth_known());
+  EXPECT_EQ(m.status().latched & kDepthLimit, 0);
+  EXPECT_EQ(at_depth(10.5, true, 2), Action::kRise);
+  EXPECT_TRUE(m.depth_known());
+  EXPECT_EQ(at_depth(0.0, false, 3), Action::kRise);  // unknown: still rising
+  EXPECT_STREQ(m.status().reason, "depth unknown (last 10.5 m > limit 10.0 m): rising");
+  EXPECT_EQ(at_depth(9.4, true, 4), Action::kNone);
+}
+
 TEST(Order, TheMostSevereActionWinsAndItsReasonIsGiven) {
   MonitorParams p = battery_params();
   p.leak = leak_params(Action::kSurface).leak;
@@ -350,7 +375,7 @@ TEST(Order, TheMostSevereActionWinsAndItsReasonIsGiven) {
   Monitor m(p);
   for (TimeUs t = 0; t <= at(3); t += kTick) {
     m.on_power(13.0, t);
-    m.on_odometry(0, 0, 12, 0, 0, true, t);
+    m.on_odometry(0, 0, 12, 0, 0, true, true, t);
     m.step(t);
   }
   EXPECT_EQ(m.status().action, Action::kRise);  // battery critical HOLD < RISE

@@ -1,0 +1,60 @@
+// tiller-failsafe's node and odometry_t.valid: a depth flagged invalid (VALID_DEPTH clear, a
+// pressure sensor lost) is no depth reading. Below the depth limit by its (invalid) number, the
+// node starts no rise; each such message is counted in odometry.depth_invalid and the heartbeat
+// is DEGRADED naming why, not OK with "no failsafe event" (the old node took the number and rose
+// on it).
+#include <gtest/gtest.h>
+
+#include <tiller/heartbeat_t.hpp>
+#include <tiller/odometry_t.hpp>
+#include <tiller/vehicle_status_t.hpp>
+
+#include <string>
+
+#include "failsafe/failsafe_node.hpp"
+#include "runtime/channels.hpp"
+#include "runtime/lockstep.hpp"
+
+namespace tiller::failsafe {
+namespace {
+
+TEST(FailsafeNode, AnInvalidDepthIsNoReadingForTheDepthLimit) {
+  FailsafeNodeParams p;
+  p.monitor.depth.enabled = true;
+  p.monitor.depth.limit_m = 10;
+  FailsafeNode node(p);
+  LockstepExecutor ex(0);
+  ex.add(node);
+  vehicle_status_t status{};
+  heartbeat_t hb{};
+  ex.observe([&](const std::string& ch, const std::uint8_t* d, int n, TimeUs) {
+    if (ch == channels::kVehicleStatus) status.decode(d, 0, n);
+    if (ch == node.heartbeat_channel()) hb.decode(d, 0, n);
+  });
+  // 0-2 s: a valid 9 m; 2-4 s: the depth flagged invalid, its number 50 m (whatever the
+  // estimator last had).
+  int invalid = 0;
+  for (TimeUs t = 0; t < 4'000'000; t += 100'000) {
+    odometry_t o{};
+    o.utime = t;
+    const bool lost = t >= 2'000'000;
+    o.valid = lost ? int{odometry_t::VALID_ATTITUDE} : int{odometry_t::VALID_ALL};
+    o.position[2] = lost ? 50.0 : 9.0;
+    invalid += lost ? 1 : 0;
+    ex.inject(channels::kOdometry, o, t);
+  }
+  ex.run_until(1'950'000);
+  EXPECT_EQ(status.action, vehicle_status_t::ACTION_NONE);
+  EXPECT_EQ(hb.state, heartbeat_t::STATE_OK) << hb.status;
+  ex.run_until(3'950'000);
+  EXPECT_EQ(status.action, vehicle_status_t::ACTION_NONE) << status.reason;
+  EXPECT_EQ(status.latched & vehicle_status_t::EVENT_DEPTH_LIMIT, 0);
+  EXPECT_EQ(node.counter_value("odometry.depth_invalid"), invalid);
+  EXPECT_EQ(node.rejected(), 0);  // well-formed messages: not bad input
+  EXPECT_EQ(hb.state, heartbeat_t::STATE_DEGRADED);
+  EXPECT_EQ(std::string(hb.status),
+            "odometry depth invalid: the depth rule is blind (keeps its last verdict)");
+}
+
+}  // namespace
+}  // namespace tiller::failsafe
