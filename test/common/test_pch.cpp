@@ -1,1 +1,0 @@
-// Compiled once to produce test_pch.hpp precompiled (CMakeLists.txt: tiller_test_pch).
