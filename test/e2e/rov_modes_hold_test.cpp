@@ -23,15 +23,7 @@ using e2e::RovSetup;
 using M = controller_mode_t;
 
 RovSetup setup(const char* v) {
-  RovSetup s;
-  if (std::string(v) == "bluerov2") {
-    s.teleop = "extreme3dpro_bluerov2.yaml";
-    s.mixer = "config/mixer/bluerov2.yaml";
-    s.esc = "config/esc/bluerov2_sim.yaml";
-    s.vehicle = "config/vehicles/bluerov2.yaml";
-    s.control = "config/control/bluerov2.yaml";
-  }
-  return s;
+  return e2e::rov_setup(v);
 }
 
 TEST(RovModes, PositionHoldInTheCurrent) {

@@ -33,21 +33,8 @@ constexpr double kOvershootDeg = 0.5;  // past the held heading
 constexpr double kSwingDeg = 0.75;     // peak to peak once held (in the 0.3 m/s current)
 
 RovSetup quiet(const std::string& v) {
-  RovSetup s;
-  if (v == "bluerov2") {
-    s.teleop = "extreme3dpro_bluerov2.yaml";
-    s.mixer = "config/mixer/bluerov2.yaml";
-    s.esc = "config/esc/bluerov2_sim.yaml";
-    s.vehicle = "config/vehicles/bluerov2.yaml";
-    s.control = "config/control/bluerov2.yaml";
-  } else if (v == "seed000_rov4") {
-    s.teleop = "extreme3dpro_seed000.yaml";
-    s.mixer = "config/mixer/seed000_rov4.yaml";
-    s.esc = "config/esc/seed000_sim.yaml";
-    s.vehicle = "config/vehicles/seed000_rov4.yaml";
-    s.control = "config/control/seed000_rov4.yaml";
-    s.extra_buoyancy_n = 0;
-  }
+  RovSetup s = e2e::rov_setup(v);
+  if (v == "seed000_rov4") s.extra_buoyancy_n = 0;
   s.position_std_m = s.orientation_std_deg = s.velocity_std_m_s = s.rate_std_deg_s = 0;
   return s;
 }

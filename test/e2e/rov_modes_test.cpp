@@ -29,13 +29,7 @@ double depth_error(const RovRig& r) {
 }
 
 RovSetup bluerov2() {
-  RovSetup s;
-  s.teleop = "extreme3dpro_bluerov2.yaml";
-  s.mixer = "config/mixer/bluerov2.yaml";
-  s.esc = "config/esc/bluerov2_sim.yaml";
-  s.vehicle = "config/vehicles/bluerov2.yaml";
-  s.control = "config/control/bluerov2.yaml";
-  return s;
+  return e2e::rov_setup("bluerov2");
 }
 
 TEST(RovModes, DepthHoldSteadyErrorInCurrentAndBuoyancy) {
@@ -109,15 +103,8 @@ TEST(RovModes, DepthHeldAtFullForwardStick) {
 
 TEST(RovModes, HeadingHoldInTheCurrent) {
   for (const char* v : {"seed001_rov6", "seed000_rov4"}) {
-    RovSetup s;
-    if (std::string(v) == "seed000_rov4") {
-      s.teleop = "extreme3dpro_seed000.yaml";
-      s.mixer = "config/mixer/seed000_rov4.yaml";
-      s.esc = "config/esc/seed000_sim.yaml";
-      s.vehicle = "config/vehicles/seed000_rov4.yaml";
-      s.control = "config/control/seed000_rov4.yaml";
-      s.extra_buoyancy_n = 0;
-    }
+    RovSetup s = e2e::rov_setup(v);
+    if (std::string(v) == "seed000_rov4") s.extra_buoyancy_n = 0;
     RovRig r(s);
     r.command(M::HEADING_HOLD);
     r.run(5'000);
@@ -197,13 +184,7 @@ TEST(RovModes, StabiliseLevelsAfterA20DegreeTilt) {
 }
 
 TEST(RovModes, TheFourThrusterRovIsRefusedWhatNeedsHeaveRollOrPitch) {
-  RovSetup s;
-  s.teleop = "extreme3dpro_seed000.yaml";
-  s.mixer = "config/mixer/seed000_rov4.yaml";
-  s.esc = "config/esc/seed000_sim.yaml";
-  s.vehicle = "config/vehicles/seed000_rov4.yaml";
-  s.control = "config/control/seed000_rov4.yaml";
-  RovRig r(s);
+  RovRig r(e2e::rov_setup("seed000_rov4"));
   const struct {
     std::int8_t mode;
     const char* axis;

@@ -11,6 +11,7 @@
 #include <cmath>
 #include <cstdio>
 #include <functional>
+#include <stdexcept>
 #include <string>
 #include <vector>
 
@@ -42,6 +43,26 @@ struct RovSetup {
   double velocity_std_m_s = 0.005;
   double rate_std_deg_s = 0.2;
 };
+
+// The shipped config files of a simulated ROV by name: "seed001_rov6" (RovSetup's defaults),
+// "bluerov2" or "seed000_rov4"; the rest of RovSetup at its defaults.
+inline RovSetup rov_setup(const std::string& vehicle) {
+  RovSetup s;
+  if (vehicle == "seed001_rov6") return s;
+  if (vehicle == "bluerov2") {
+    s.teleop = "extreme3dpro_bluerov2.yaml";
+    s.esc = "config/esc/bluerov2_sim.yaml";
+  } else if (vehicle == "seed000_rov4") {
+    s.teleop = "extreme3dpro_seed000.yaml";
+    s.esc = "config/esc/seed000_sim.yaml";
+  } else {
+    throw std::invalid_argument("rov_setup: no simulated ROV named " + vehicle);
+  }
+  s.mixer = "config/mixer/" + vehicle + ".yaml";
+  s.vehicle = "config/vehicles/" + vehicle + ".yaml";
+  s.control = "config/control/" + vehicle + ".yaml";
+  return s;
+}
 
 inline SimParams rov_sim_params(const RovSetup& s) {
   const auto root = config::Value::load_file(kSrc + "/config/sim/sim.yaml");
