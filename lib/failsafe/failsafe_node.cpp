@@ -31,6 +31,7 @@ FailsafeNode::FailsafeNode(const FailsafeNodeParams& p)
   bad_command_ = &counter("rejected.mission_command.invalid");
   disarm_requests_ = &counter("disarm_requests");
   depth_invalid_ = &counter("odometry.depth_invalid");
+  position_invalid_ = &counter("odometry.position_invalid");
   for (std::size_t i = 0; i < event_counters_.size(); ++i)
     event_counters_[i] = &counter(std::string("event.") + kEventNames[i]);
   status_.reason.reserve(128);
@@ -84,8 +85,11 @@ void FailsafeNode::on_odometry(const odometry_t& m, TimeUs now) {
   const double u = m.velocity[0], v = m.velocity[1];
   // An invalid depth is no reading for the depth rule (it keeps its verdict): counted.
   if (!depth_valid_ && p_.monitor.depth.enabled) ++*depth_invalid_;
+  // So is an invalid position for the geofence (GNSS lost is its own rule).
+  const bool position_valid = (m.valid & odometry_t::VALID_POSITION) != 0;
+  if (!position_valid && p_.monitor.geofence.enabled) ++*position_invalid_;
   monitor_.on_odometry(m.position[0], m.position[1], m.position[2], c * u - s * v, s * u + c * v,
-                       (m.valid & odometry_t::VALID_POSITION) != 0, depth_valid_, now);
+                       position_valid, depth_valid_, now);
 }
 
 void FailsafeNode::on_mission_command(const mission_command_t& m, TimeUs now) {
@@ -148,6 +152,8 @@ void FailsafeNode::update_health(TimeUs now) {
   else if ((m.geofence.enabled || m.depth.enabled) &&
            (odom_at_ < 0 || now - odom_at_ > m.odometry_stale))
     silent = "no odometry: the geofence and depth rules are blind";
+  else if (m.geofence.enabled && !monitor_.position_known())
+    silent = "odometry position invalid: the geofence is blind (keeps its last verdict)";
   else if (m.depth.enabled && !monitor_.depth_known())
     silent = "odometry depth invalid: the depth rule is blind (keeps its last verdict)";
   const Status& s = monitor_.status();

@@ -70,7 +70,8 @@ class FailsafeNode : public Node {
   std::int8_t health_ = -1;
   std::int64_t *bad_power_, *bad_leak_, *bad_gnss_, *bad_odometry_, *bad_command_;
   std::int64_t* disarm_requests_;
-  std::int64_t* depth_invalid_;  // odometry.depth_invalid: messages whose depth the rule skips
+  std::int64_t* depth_invalid_;     // odometry.depth_invalid: messages whose depth the rule skips
+  std::int64_t* position_invalid_;  // odometry.position_invalid: the geofence skips their position
   std::array<std::int64_t*, 6> event_counters_{};
 };
 

@@ -155,12 +155,17 @@ void Monitor::on_odometry(double n, double e, double d, double vn, double ve, bo
   if (valid) odom_valid_at_ = now;
   have_odom_ = true;
   odom_at_ = now;
-  n_ = n;
-  e_ = e;
+  // An invalid position is no reading for the geofence: n_, e_ and the velocity stay the last
+  // valid ones and the fence keeps its verdict (a hold stays a hold).
+  position_valid_ = valid;
+  if (valid) {
+    n_ = n;
+    e_ = e;
+    vn_ = vn;
+    ve_ = ve;
+  }
   depth_valid_ = depth_valid;
   if (depth_valid) d_ = d;
-  vn_ = vn;
-  ve_ = ve;
 }
 
 void Monitor::on_operator_go(TimeUs) {
@@ -245,10 +250,11 @@ const Status& Monitor::step(TimeUs now) {
     }
   }
 
-  // Geofence and depth, on fresh odometry (stale: the last verdict stays).
+  // Geofence and depth, on fresh odometry with a valid position / depth (stale or invalid: the
+  // last verdict stays).
   const bool odom_fresh = have_odom_ && now - odom_at_ <= p_.odometry_stale;
   const GeofenceParams& f = p_.geofence;
-  if (f.enabled && odom_fresh) {
+  if (f.enabled && odom_fresh && position_valid_) {
     double on = 0, oe = 0;
     fence_d_ = signed_distance(f.polygon, {n_, e_}, &on, &oe);
     const double v_out = vn_ * on + ve_ * oe;

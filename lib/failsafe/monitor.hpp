@@ -149,6 +149,7 @@ class Monitor {
   double distance_to_fence() const { return fence_d_; }  // m, + inside (when known)
   // False while the latest odometry's depth is invalid (the depth rule cannot judge).
   bool depth_known() const { return depth_valid_; }
+  bool position_known() const { return position_valid_; }
 
  private:
   struct Below {  // a level with hysteresis and a trigger time
@@ -186,7 +187,8 @@ class Monitor {
   bool fence_hold_ = false;
   bool near_fence_ = false;
   bool deep_ = false;
-  bool depth_valid_ = false;  // the latest odometry's VALID_DEPTH; d_ is the last valid depth
+  bool depth_valid_ = false;     // the latest odometry's VALID_DEPTH; d_ is the last valid depth
+  bool position_valid_ = false;  // its VALID_POSITION; n_, e_, vn_, ve_ are the last valid ones
   char reason_[128] = {};
   char last_reason_[128] = {};
 };

@@ -56,5 +56,49 @@ TEST(FailsafeNode, AnInvalidDepthIsNoReadingForTheDepthLimit) {
             "odometry depth invalid: the depth rule is blind (keeps its last verdict)");
 }
 
+// The same for the geofence: an invalid position (VALID_POSITION clear) outside the fence starts
+// no hold; each such message is counted in odometry.position_invalid and the heartbeat says the
+// geofence is blind.
+TEST(FailsafeNode, AnInvalidPositionIsNoReadingForTheGeofence) {
+  FailsafeNodeParams p;
+  p.monitor.geofence.enabled = true;
+  p.monitor.geofence.polygon = {{0, 0}, {0, 100}, {100, 100}, {100, 0}};
+  FailsafeNode node(p);
+  LockstepExecutor ex(0);
+  ex.add(node);
+  vehicle_status_t status{};
+  heartbeat_t hb{};
+  ex.observe([&](const std::string& ch, const std::uint8_t* d, int n, TimeUs) {
+    if (ch == channels::kVehicleStatus) status.decode(d, 0, n);
+    if (ch == node.heartbeat_channel()) hb.decode(d, 0, n);
+  });
+  // 0-2 s: valid, 50 m inside; 2-4 s: the position flagged invalid, its number 150 m north
+  // (outside) and moving out at 1 m/s.
+  int invalid = 0;
+  for (TimeUs t = 0; t < 4'000'000; t += 100'000) {
+    odometry_t o{};
+    o.utime = t;
+    const bool lost = t >= 2'000'000;
+    o.valid = lost ? int{odometry_t::VALID_ALL & ~odometry_t::VALID_POSITION}
+                   : int{odometry_t::VALID_ALL};
+    o.position[0] = lost ? 150.0 : 50.0;
+    o.position[1] = 50.0;
+    o.velocity[0] = lost ? 1.0 : 0.0;
+    invalid += lost ? 1 : 0;
+    ex.inject(channels::kOdometry, o, t);
+  }
+  ex.run_until(1'950'000);
+  EXPECT_EQ(status.action, vehicle_status_t::ACTION_NONE);
+  EXPECT_EQ(hb.state, heartbeat_t::STATE_OK) << hb.status;
+  ex.run_until(3'950'000);
+  EXPECT_EQ(status.action, vehicle_status_t::ACTION_NONE) << status.reason;
+  EXPECT_EQ(status.latched & vehicle_status_t::EVENT_GEOFENCE, 0);
+  EXPECT_EQ(node.counter_value("odometry.position_invalid"), invalid);
+  EXPECT_EQ(node.rejected(), 0);
+  EXPECT_EQ(hb.state, heartbeat_t::STATE_DEGRADED);
+  EXPECT_EQ(std::string(hb.status),
+            "odometry position invalid: the geofence is blind (keeps its last verdict)");
+}
+
 }  // namespace
 }  // namespace tiller::failsafe

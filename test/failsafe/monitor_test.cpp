@@ -324,6 +324,30 @@ TEST(Geofence, SlowDriftBelowTheOutwardSpeedIsNotAHold) {
   EXPECT_NE(m.status().active & kGeofence, 0);
 }
 
+// A position flagged invalid (VALID_POSITION clear: GNSS lost past the estimator's uncertainty
+// limit; its numbers are whatever the estimator last had) is no reading for the fence: it neither
+// starts a hold nor, once the vehicle is holding, counts as the vehicle being back inside. The old
+// rule took the numbers: it held on an invalid 99.5 m moving out, and an invalid point far inside
+// cleared "near the fence". The GNSS-lost rule acts on the loss itself.
+TEST(Geofence, AnInvalidPositionIsNoReadingAndKeepsTheLastVerdict) {
+  Monitor m(fence_params());
+  m.on_odometry(50, 50, 0, 0, 0, true, true, 0);
+  EXPECT_EQ(m.step(0).action, Action::kNone);
+  EXPECT_TRUE(m.position_known());
+  m.on_odometry(99.5, 50, 0, 1.5, 0, false, true, at(0.1));  // invalid, at the fence moving out
+  EXPECT_EQ(m.step(at(0.1)).action, Action::kNone);
+  EXPECT_FALSE(m.position_known());
+  EXPECT_EQ(m.status().latched & kGeofence, 0);
+  // A valid position moving out within the margin: hold (near). Then invalid numbers far inside
+  // at rest: the hold and "near" stay.
+  m.on_odometry(99.5, 50, 0, 1.5, 0, true, true, at(0.2));
+  EXPECT_EQ(m.step(at(0.2)).action, Action::kHold);
+  m.on_odometry(10, 50, 0, 0, 0, false, true, at(0.3));
+  EXPECT_EQ(m.step(at(0.3)).action, Action::kHold);
+  EXPECT_NE(m.status().active & kGeofence, 0);
+  EXPECT_STREQ(m.status().reason, "geofence: 0.5 m inside, holding (a START or RESUME ends it)");
+}
+
 TEST(Depth, RiseBelowTheLimitUntilAboveItMinusTheHysteresis) {
   MonitorParams p;
   p.depth.enabled = true;
