@@ -18,19 +18,30 @@
 namespace tiller::failsafe {
 namespace {
 
+// The node in lockstep, its latest vehicle status and heartbeat kept.
+struct Rig {
+  explicit Rig(const FailsafeNodeParams& p) : node(p), ex(0) {
+    ex.add(node);
+    ex.observe([this](const std::string& ch, const std::uint8_t* d, int n, TimeUs) {
+      if (ch == channels::kVehicleStatus) status.decode(d, 0, n);
+      if (ch == node.heartbeat_channel()) hb.decode(d, 0, n);
+    });
+  }
+  FailsafeNode node;
+  LockstepExecutor ex;
+  vehicle_status_t status{};
+  heartbeat_t hb{};
+};
+
 TEST(FailsafeNode, AnInvalidDepthIsNoReadingForTheDepthLimit) {
   FailsafeNodeParams p;
   p.monitor.depth.enabled = true;
   p.monitor.depth.limit_m = 10;
-  FailsafeNode node(p);
-  LockstepExecutor ex(0);
-  ex.add(node);
-  vehicle_status_t status{};
-  heartbeat_t hb{};
-  ex.observe([&](const std::string& ch, const std::uint8_t* d, int n, TimeUs) {
-    if (ch == channels::kVehicleStatus) status.decode(d, 0, n);
-    if (ch == node.heartbeat_channel()) hb.decode(d, 0, n);
-  });
+  Rig rig(p);
+  FailsafeNode& node = rig.node;
+  LockstepExecutor& ex = rig.ex;
+  const vehicle_status_t& status = rig.status;
+  const heartbeat_t& hb = rig.hb;
   // 0-2 s: a valid 9 m; 2-4 s: the depth flagged invalid, its number 50 m (whatever the
   // estimator last had).
   int invalid = 0;
@@ -63,15 +74,11 @@ TEST(FailsafeNode, AnInvalidPositionIsNoReadingForTheGeofence) {
   FailsafeNodeParams p;
   p.monitor.geofence.enabled = true;
   p.monitor.geofence.polygon = {{0, 0}, {0, 100}, {100, 100}, {100, 0}};
-  FailsafeNode node(p);
-  LockstepExecutor ex(0);
-  ex.add(node);
-  vehicle_status_t status{};
-  heartbeat_t hb{};
-  ex.observe([&](const std::string& ch, const std::uint8_t* d, int n, TimeUs) {
-    if (ch == channels::kVehicleStatus) status.decode(d, 0, n);
-    if (ch == node.heartbeat_channel()) hb.decode(d, 0, n);
-  });
+  Rig rig(p);
+  FailsafeNode& node = rig.node;
+  LockstepExecutor& ex = rig.ex;
+  const vehicle_status_t& status = rig.status;
+  const heartbeat_t& hb = rig.hb;
   // 0-2 s: valid, 50 m inside; 2-4 s: the position flagged invalid, its number 150 m north
   // (outside) and moving out at 1 m/s.
   int invalid = 0;
