@@ -42,6 +42,7 @@ static ControllerNodeCommon load_common(const config::Value& v) {
   c.input_timeout_s = v.number("input_timeout_s", {0.001, 60});
   c.allocation_timeout_s = v.number("allocation_timeout_s", {0.001, 60});
   c.blend_s = v.number("blend_s", {0, 60});
+  c.invalid_neutral_s = v.number_or("odometry_invalid_neutral_s", 60.0, {0, 3600});
   return c;
 }
 

@@ -29,6 +29,11 @@ struct ControllerNodeCommon {
   double input_timeout_s = 0.5;       // setpoints, targets, progress, manual commands
   double allocation_timeout_s = 0.5;  // TILLER_ALLOCATION_STATUS older than this is ignored
   double blend_s = 1.0;  // s: on taking over, blend from the other controller's last wrench
+  // s: while the estimator keeps flagging a needed part of the odometry invalid (a GNSS outage
+  // past its limit), a valid zero wrench (neutral, still armed; resumes when valid) for at most
+  // this long since it went invalid; 0: an invalid wrench at once (the mixer's disarm follows).
+  // lib/control/estimate_watch.hpp.
+  double invalid_neutral_s = 60.0;
 };
 
 struct VelocityPidNodeParams {

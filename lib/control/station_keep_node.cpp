@@ -22,6 +22,9 @@ const std::string kRefused =
     "dead reckoning past its limit): neutral";
 const std::string kRefusedHolding =
     "position hold refused: odometry has no valid position and velocity: holding the last wrench";
+const std::string kRefusedNeutral =
+    "position hold refused: odometry has no valid position and velocity (the estimator says so): "
+    "neutral, armed; resumes when it is valid";
 // What station keeping needs of an odometry message (odometry_t.valid).
 constexpr std::int32_t kNeeds = int{odometry_t::VALID_POSITION} | int{odometry_t::VALID_VELOCITY} |
                                 int{odometry_t::VALID_ATTITUDE};
@@ -82,6 +85,7 @@ void StationKeepNode::on_odometry(const odometry_t& m, TimeUs now) {
   // A well-formed estimate without the parts a hold needs: not taken, so the odometry goes
   // stale (docs/safety.md: hold the last wrench for hold_s or neutral), and said so.
   odom_invalid_ = (m.valid & kNeeds) != kNeeds;
+  estimate_.on_message(odom_invalid_, now);
   if (odom_invalid_) {
     ++first_use(invalid_odometry_, "odometry.invalid");
     return;
@@ -180,10 +184,18 @@ void StationKeepNode::on_tick(TimeUs now) {
     const bool hold =
         p_.common.on_stale == StaleAction::kHold && odom_fresh_.ever() &&
         now - odom_fresh_.last() <= odom_fresh_.limit() + from_seconds(p_.common.hold_s);
+    invalid_neutral_ =
+        !hold && estimate_.neutral(now, odom_fresh_.limit(),
+                                   from_seconds(p_.common.invalid_neutral_s), odom_fresh_.ever());
     if (hold) {
       publish_wrench(now, last_wrench_.valid, last_wrench_.tau[0], last_wrench_.tau[1],
                      last_wrench_.tau[5]);
       set_health(heartbeat_t::STATE_DEGRADED, odom_invalid_ ? kRefusedHolding : kHolding);
+    } else if (invalid_neutral_) {
+      // The estimator is alive and says its estimate is not good enough (estimate_watch.hpp): a
+      // deliberate neutral, so the vehicle stays armed and carries on when it is valid again.
+      publish_wrench(now, true, 0, 0, 0);
+      set_health(heartbeat_t::STATE_DEGRADED, kRefusedNeutral);
     } else {
       // Invalid: no wrench to give (nothing to hold on). The mixer counts it as input lost:
       // neutral at once, and a disarm request after safety.disarm_after_s.
@@ -194,6 +206,11 @@ void StationKeepNode::on_tick(TimeUs now) {
     return;
   }
 
+  if (invalid_neutral_) {
+    // Valid again after a deliberate neutral: ramp from that zero wrench over blend_s.
+    invalid_neutral_ = false;
+    if (active_) blend_.start(now, {0, 0, 0});
+  }
   const bool have_target = target_fresh_.fresh(now) && target_.active;
   const double heading = wrap_pi(odom_.orientation[2]);
   if (have_target && !target_.heading_valid && (!hold_heading_valid_ || !active_)) {

@@ -13,8 +13,10 @@
 // the guidance stale) it holds where the vehicle is: the position and heading when it took control,
 // re-captured while the mixer's gate says disarmed or waiting for a start (so a start holds where
 // the vehicle is then). Odometry stale: neutral (an invalid wrench: the mixer's input lost, then
-// its disarm after safety.disarm_after_s), or the last wrench for hold_s, per config. Bad input
-// (core/message_checks.hpp) is dropped and counted: odometry with non-finite values
+// its disarm after safety.disarm_after_s), or the last wrench for hold_s, per config; stale
+// because the estimator keeps flagging the odometry invalid: a valid zero wrench (armed; resumes,
+// ramped over blend_s, when valid) for odometry_invalid_neutral_s (control/estimate_watch.hpp).
+// Bad input (core/message_checks.hpp) is dropped and counted: odometry with non-finite values
 // (rejected.odometry.nan) or angles / covariance size out of contract (rejected.odometry.range);
 // an active target with NaN, a position beyond 1e6 m or a valid heading outside (-pi, pi]
 // (rejected.target.invalid); an arbitration with an unknown mode or source
@@ -32,6 +34,7 @@
 
 #include "control/blend.hpp"
 #include "control/control_config.hpp"
+#include "control/estimate_watch.hpp"
 #include "control/station_pid.hpp"
 #include "runtime/node.hpp"
 
@@ -83,7 +86,9 @@ class StationKeepNode : public Node {
   Blend blend_;
   bool was_active_ = false;
   std::int64_t *nan_odometry_, *bad_target_, *bad_velocity_wrench_;
-  bool odom_invalid_ = false;  // the last odometry lacked position, velocity or attitude
+  bool odom_invalid_ = false;     // the last odometry lacked position, velocity or attitude
+  EstimateWatch estimate_;        // the estimator flags a needed part invalid: deliberate neutral
+  bool invalid_neutral_ = false;  // gave that neutral at the previous tick
   std::int64_t* invalid_odometry_ = nullptr;                             // made on first use
   std::int64_t *range_odometry_ = nullptr, *bad_arbitration_ = nullptr,  // made on first use
                                                *bad_allocation_ = nullptr,

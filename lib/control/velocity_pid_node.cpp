@@ -19,6 +19,9 @@ const std::string kNeutral = "odometry stale: neutral";
 const std::string kInvalid = "odometry has no valid velocity and attitude: neutral";
 const std::string kInvalidHolding =
     "odometry has no valid velocity and attitude: holding the last wrench";
+const std::string kInvalidNeutral =
+    "odometry has no valid velocity and attitude (the estimator says so): neutral, armed; "
+    "resumes when it is valid";
 // What the velocity PID needs of an odometry message (odometry_t.valid): u v r and heading.
 constexpr std::int32_t kNeeds = int{odometry_t::VALID_VELOCITY} | int{odometry_t::VALID_ATTITUDE};
 
@@ -84,6 +87,7 @@ void VelocityPidNode::on_odometry(const odometry_t& m, TimeUs now) {
   }
   // Without a valid velocity and attitude the message is not taken: the odometry goes stale.
   odom_invalid_ = (m.valid & kNeeds) != kNeeds;
+  estimate_.on_message(odom_invalid_, now);
   if (odom_invalid_) {
     ++first_use(invalid_odometry_, "odometry.invalid");
     return;
@@ -267,10 +271,18 @@ void VelocityPidNode::on_tick(TimeUs now) {
     const bool hold =
         p_.common.on_stale == StaleAction::kHold && odom_fresh_.ever() &&
         now - odom_fresh_.last() <= odom_fresh_.limit() + from_seconds(p_.common.hold_s);
+    invalid_neutral_ =
+        !hold && estimate_.neutral(now, odom_fresh_.limit(),
+                                   from_seconds(p_.common.invalid_neutral_s), odom_fresh_.ever());
     if (hold) {
       publish_wrench(now, last_wrench_.valid, last_wrench_.tau[0], last_wrench_.tau[1],
                      last_wrench_.tau[5]);
       set_health(heartbeat_t::STATE_DEGRADED, odom_invalid_ ? kInvalidHolding : kHolding);
+    } else if (invalid_neutral_) {
+      // The estimator is alive and says its estimate is not good enough (estimate_watch.hpp): a
+      // deliberate neutral, so the vehicle stays armed and carries on when it is valid again.
+      publish_wrench(now, true, 0, 0, 0);
+      set_health(heartbeat_t::STATE_DEGRADED, kInvalidNeutral);
     } else {
       // Invalid: no wrench to give (nothing to hold on). The mixer counts it as input lost:
       // neutral at once, and a disarm request after safety.disarm_after_s.
@@ -281,6 +293,11 @@ void VelocityPidNode::on_tick(TimeUs now) {
     return;
   }
 
+  if (invalid_neutral_) {
+    // Valid again after a deliberate neutral: ramp from that zero wrench over blend_s.
+    invalid_neutral_ = false;
+    if (active) blend_.start(now, {0, 0, 0});
+  }
   VelocityPidInput in;
   in.u = odom_.velocity[0];
   in.v = odom_.velocity[1];

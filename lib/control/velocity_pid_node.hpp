@@ -16,14 +16,16 @@
 // zero, blend from the last published wrench, dt = 0 on that tick. No fresh setpoint: wrench
 // invalid (the mixer treats it as absent). Odometry stale: neutral (an invalid wrench: the mixer's
 // input lost, then its disarm after safety.disarm_after_s), or the last wrench for hold_s, per
-// config. The arbiter's hold (path stopped, guidance stale, tiller-failsafe's HOLD on
-// TILLER_VEHICLE_STATUS: the last one received stays in force) hands over to station keeping. Bad
-// input (core/message_checks.hpp) is dropped and counted: odometry with non-finite values
-// (rejected.odometry.nan) or angles / covariance size out of contract (rejected.odometry.range); a
-// setpoint out of contract, e.g. a valid heading outside (-pi, pi] (rejected.setpoint.invalid); an
-// allocation status out of contract (rejected.allocation.invalid); a manual command, mode or path
-// progress out of contract (rejected.manual/mode/progress.invalid); a station-keep wrench with NaN
-// (rejected.wrench_station.nan); a thruster command out of contract
+// config; stale because the estimator keeps flagging the odometry invalid: a valid zero wrench
+// (armed; resumes, ramped over blend_s, when valid) for odometry_invalid_neutral_s
+// (control/estimate_watch.hpp). The arbiter's hold (path stopped, guidance stale, tiller-failsafe's
+// HOLD on TILLER_VEHICLE_STATUS: the last one received stays in force) hands over to station
+// keeping. Bad input (core/message_checks.hpp) is dropped and counted: odometry with non-finite
+// values (rejected.odometry.nan) or angles / covariance size out of contract
+// (rejected.odometry.range); a setpoint out of contract, e.g. a valid heading outside (-pi, pi]
+// (rejected.setpoint.invalid); an allocation status out of contract (rejected.allocation.invalid);
+// a manual command, mode or path progress out of contract (rejected.manual/mode/progress.invalid);
+// a station-keep wrench with NaN (rejected.wrench_station.nan); a thruster command out of contract
 // (rejected.thruster_command.invalid).
 #pragma once
 
@@ -41,6 +43,7 @@
 #include "control/arbiter.hpp"
 #include "control/blend.hpp"
 #include "control/control_config.hpp"
+#include "control/estimate_watch.hpp"
 #include "control/velocity_pid.hpp"
 #include "runtime/node.hpp"
 
@@ -99,8 +102,10 @@ class VelocityPidNode : public Node {
   std::int8_t prev_mode_ = -1;    // the arbiter's mode at the previous tick
   std::int64_t *nan_odometry_, *bad_setpoint_, *bad_manual_, *bad_progress_, *bad_mode_,
       *bad_station_wrench_;
-  bool odom_invalid_ = false;                 // the last odometry lacked velocity or attitude
-  std::int64_t* invalid_odometry_ = nullptr;  // made on first use
+  bool odom_invalid_ = false;     // the last odometry lacked velocity or attitude
+  EstimateWatch estimate_;        // the estimator flags a needed part invalid: deliberate neutral
+  bool invalid_neutral_ = false;  // gave that neutral at the previous tick
+  std::int64_t* invalid_odometry_ = nullptr;                            // made on first use
   std::int64_t *range_odometry_ = nullptr, *bad_allocation_ = nullptr,  // made on first use
                                                *range_station_wrench_ = nullptr,
                *bad_command_ = nullptr, *bad_status_ = nullptr;

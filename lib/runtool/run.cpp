@@ -3,6 +3,7 @@
 #include <tiller/arm_request_t.hpp>
 #include <tiller/odometry_t.hpp>
 #include <tiller/path_progress_t.hpp>
+#include <tiller/thruster_command_t.hpp>
 #include <tiller/velocity_setpoint_t.hpp>
 
 #include <algorithm>
@@ -174,11 +175,16 @@ RunOutcome run(const RunSpec& spec) {
   velocity_setpoint_t vsp;
   odometry_t od;
   arm_request_t ar;
+  thruster_command_t tc;
   constexpr std::int32_t kNeeded = int{odometry_t::VALID_POSITION} |
                                    int{odometry_t::VALID_VELOCITY} |
                                    int{odometry_t::VALID_ATTITUDE};
   bool was_valid = false;
   TimeUs last_odom = -1;
+  TimeUs invalid_since = -1;  // the first invalid odometry after a valid one (-1: valid)
+  // The controllers' odometry_timeout_s (0.5 s) and one mixer period (20 ms): from then on the
+  // thrust must be neutral while the estimate stays invalid.
+  constexpr TimeUs kNeutralAfter = 520'000;
   ex.observe([&](const std::string& ch, const std::uint8_t* d, int n, TimeUs t) {
     ++out.messages;
     if (log) log->write(ch, d, n, t);
@@ -187,12 +193,19 @@ RunOutcome run(const RunSpec& spec) {
           std::max(out.max_setpoint_speed, std::hypot(vsp.velocity[0], vsp.velocity[1]));
     }
     if (ch == channels::kArmRequest && ar.decode(d, 0, n) == n && !ar.arm) ++out.disarm_requests;
+    if (invalid_since >= 0 && t - invalid_since > kNeutralAfter &&
+        ch == channels::kThrusterCommand && tc.decode(d, 0, n) == n) {
+      for (const double c : tc.command)
+        out.invalid_thrust_max = std::max(out.invalid_thrust_max, std::fabs(c));
+    }
     if (out.estimated && ch == channels::kOdometry && od.decode(d, 0, n) == n) {
       const double dt = last_odom >= 0 ? to_seconds(t - last_odom) : 0.0;
       last_odom = t;
       const bool valid = (od.valid & kNeeded) == kNeeded;
       if (od.valid & odometry_t::DEAD_RECKONING) out.dead_reckoning_s += dt;
       if (was_valid && !valid) out.odometry_invalid_s += dt;
+      if (was_valid && !valid && invalid_since < 0) invalid_since = t;
+      if (valid) invalid_since = -1;
       was_valid |= valid;
     }
     if (ch == channels::kGroundTruth || ch == channels::kOdometry || ch == channels::kPath ||

@@ -76,6 +76,10 @@ struct RunOutcome {
   double dead_reckoning_s = 0;      // DEAD_RECKONING set
   double odometry_invalid_s = 0;    // position, velocity or attitude invalid after the first valid
   std::size_t disarm_requests = 0;  // TILLER_ARM_REQUEST disarms (the mixer's: input lost)
+  // The largest |thruster command| (normalised) the mixer published while the odometry had been
+  // invalid for more than the controllers' odometry_timeout_s (0.5 s) plus one mixer period:
+  // 0 when the controllers give neutral on an invalid estimate.
+  double invalid_thrust_max = 0;
 };
 
 // Runs it. Config errors throw config::Error (file, line, key); others std::runtime_error.

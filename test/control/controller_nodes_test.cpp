@@ -675,8 +675,17 @@ namespace {
 // depth valid, position and velocity not.
 constexpr std::int32_t kRovValid = int{odometry_t::VALID_ATTITUDE} | int{odometry_t::VALID_DEPTH};
 
-TEST(StationKeepNode, OdometryWithoutAValidPositionRefusesTheHoldWithAMessage) {
+// Station keeping on odometry valid until 1.0 s, then flagged without a position (tiller-nav:
+// dead reckoning past its limit) until 3.0 s, then silent; the mixer's gate ACTIVE throughout.
+// `wait_s`: odometry_invalid_neutral_s. Returns the station wrench at `at` and the status.
+struct StationAt {
+  wrench_t w;
+  std::string status;
+  std::int64_t invalid = 0, rejected = 0;
+};
+StationAt station_on_invalid_odometry(double wait_s, TimeUs at) {
   auto p = load_station_keep_node_params(config::Value::load_file(kOtter));
+  p.common.invalid_neutral_s = wait_s;
   StationKeepNode node(p);
   LockstepExecutor ex(0);
   ex.add(node);
@@ -692,27 +701,52 @@ TEST(StationKeepNode, OdometryWithoutAValidPositionRefusesTheHoldWithAMessage) {
   arbitration_t arb{};
   arb.active_source = wrench_t::SOURCE_STATION_KEEP;
   arb.reason = "test";
-  for (TimeUs t = 0; t < 3'000'000; t += 50'000) {
+  for (TimeUs t = 0; t < 5'000'000; t += 50'000) {
     st.utime = arb.utime = t;
     ex.inject(channels::kStationTarget, st, t);
     ex.inject(channels::kArbitration, arb, t);
     odometry_t o = odom(t, 0, 0, 0.3);
     if (t >= 1'000'000) o.valid = kRovValid;
-    ex.inject(channels::kOdometry, o, t);
+    if (t < 3'000'000) ex.inject(channels::kOdometry, o, t);
     ex.inject(channels::kThrusterCommand,
               gate_cmd(t, thruster_command_t::GATE_ACTIVE, wrench_t::SOURCE_STATION_KEEP), t);
   }
-  ex.run_until(950'000);
-  EXPECT_TRUE(b.ws.valid);
-  EXPECT_GT(b.ws.tau[0], 0.0);
-  ex.run_until(2'100'000);  // the last valid odometry at 0.95 s, 0.5 s limit (neutral config)
-  EXPECT_FALSE(b.ws.valid);
-  EXPECT_EQ(b.ws.tau[0], 0.0);
-  EXPECT_GE(node.counter_value("odometry.invalid"), 21);  // from 1.0 s at 20 Hz
-  EXPECT_EQ(node.rejected(), 0);                          // well-formed: not a bad message
-  EXPECT_EQ(std::string(hb.status).rfind("position hold refused", 0), 0u) << hb.status;
+  ex.run_until(at);
+  return {b.ws, hb.status, node.counter_value("odometry.invalid"), node.rejected()};
 }
 
+TEST(StationKeepNode, OdometryWithoutAValidPositionRefusesTheHoldWithAMessage) {
+  auto r = station_on_invalid_odometry(60.0, 950'000);
+  EXPECT_TRUE(r.w.valid);
+  EXPECT_GT(r.w.tau[0], 0.0);
+  // The last valid odometry at 0.95 s, 0.5 s limit (neutral config); the estimator keeps saying
+  // "no position": a deliberate neutral, a valid zero wrench (the vehicle stays armed).
+  r = station_on_invalid_odometry(60.0, 2'100'000);
+  EXPECT_TRUE(r.w.valid);
+  for (const double f : r.w.tau) EXPECT_EQ(f, 0.0);
+  EXPECT_GE(r.invalid, 21);  // from 1.0 s at 20 Hz
+  EXPECT_EQ(r.rejected, 0);  // well-formed: not a bad message
+  EXPECT_EQ(r.status.rfind("position hold refused", 0), 0u) << r.status;
+  EXPECT_NE(r.status.find("neutral, armed; resumes when it is valid"), std::string::npos)
+      << r.status;
+  // The estimator silent (last message 2.95 s, + 0.5 s): nothing is known, input lost.
+  r = station_on_invalid_odometry(60.0, 3'600'000);
+  EXPECT_FALSE(r.w.valid);
+  EXPECT_EQ(r.status.rfind("position hold refused", 0), 0u) << r.status;
+  // Past odometry_invalid_neutral_s since it went invalid (1.0 s + 0.8 s): input lost too.
+  r = station_on_invalid_odometry(0.8, 1'750'000);
+  EXPECT_TRUE(r.w.valid);
+  r = station_on_invalid_odometry(0.8, 1'900'000);
+  EXPECT_FALSE(r.w.valid);
+  // 0: the invalid wrench at once (the mixer's INPUT_LOST and disarm), as before the wait.
+  r = station_on_invalid_odometry(0.0, 2'100'000);
+  EXPECT_FALSE(r.w.valid);
+  EXPECT_EQ(r.w.tau[0], 0.0);
+}
+
+// The velocity PID in closed loop at 1 m/s asked: the odometry loses its velocity from 1.0 s to
+// 2.0 s. A deliberate neutral (valid, zero) while the estimator says so; valid again, the PID
+// resumes with its output ramped from zero over blend_s (1 s): no step.
 TEST(VelocityPidNode, OdometryWithoutAValidVelocityGivesNeutral) {
   auto p = load_velocity_pid_node_params(config::Value::load_file(kOtter));
   VelocityPidNode node(p);
@@ -725,21 +759,29 @@ TEST(VelocityPidNode, OdometryWithoutAValidVelocityGivesNeutral) {
   m.velocity[0] = 1.0;
   m.yaw_mode = manual_velocity_cmd_t::YAW_RATE;
   m.valid = true;
-  for (TimeUs t = 10'000; t < 2'000'000; t += 50'000) {
+  for (TimeUs t = 10'000; t < 4'000'000; t += 50'000) {
     m.utime = t;
     ex.inject(channels::kManualVelocity, m, t);
     odometry_t o = odom(t, 0, 0, 0, 0.4);
-    if (t >= 1'000'000) o.valid = kRovValid;
+    if (t >= 1'000'000 && t < 2'000'000) o.valid = kRovValid;
     ex.inject(channels::kOdometry, o, t);
   }
-  applied(ex, wrench_t::SOURCE_VELOCITY_PID, 10'000, 2'000'000);
+  applied(ex, wrench_t::SOURCE_VELOCITY_PID, 10'000, 4'000'000);
   ex.run_until(900'000);
   EXPECT_TRUE(b.wv.valid);
-  EXPECT_GT(b.wv.tau[0], 0.0);
+  const double before = b.wv.tau[0];
+  EXPECT_GT(before, 0.0);
   ex.run_until(1'800'000);
-  EXPECT_FALSE(b.wv.valid);
+  EXPECT_TRUE(b.wv.valid);
   EXPECT_EQ(b.wv.tau[0], 0.0);
+  EXPECT_EQ(b.wv.tau[5], 0.0);
   EXPECT_GT(node.counter_value("odometry.invalid"), 10);
+  ex.run_until(2'160'000);  // valid again from 2.0 s: at most a fifth of the way up
+  EXPECT_TRUE(b.wv.valid);
+  EXPECT_GT(b.wv.tau[0], 0.0);
+  EXPECT_LT(b.wv.tau[0], 0.25 * before);
+  ex.run_until(3'500'000);  // the blend done: the PID's own output again
+  EXPECT_GT(b.wv.tau[0], 0.5 * before);
 }
 
 }  // namespace
