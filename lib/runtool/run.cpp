@@ -160,8 +160,12 @@ RunOutcome run(const RunSpec& spec) {
   LockstepExecutor ex(0);
   ex.add(sim);
   if (navn) ex.add(*navn);  // the estimator right after the plant, as the sensors' consumer
-  for (Node* n : std::initializer_list<Node*>{&esc, &mixer, &mnode, &follower, &vpid, &skeep})
-    ex.add(*n);
+  const auto add_autonomy = [&] {
+    for (Node* n : std::initializer_list<Node*>{&esc, &mixer, &mnode, &follower, &vpid, &skeep})
+      ex.add(*n);
+  };
+  const TimeUs settle = from_seconds(std::max(spec.settle_s, 0.0));
+  if (settle == 0) add_autonomy();
 
   std::unique_ptr<LogWriter> log;
   if (!spec.log_file.empty()) {
@@ -207,8 +211,14 @@ RunOutcome run(const RunSpec& spec) {
   });
 
   const double hold = spec.hold_s >= 0 ? spec.hold_s : m.station_keep_s;
-  const TimeUs limit = from_seconds(spec.time_limit_s >= 0 ? spec.time_limit_s : m.time_limit_s);
+  const TimeUs limit =
+      settle + from_seconds(spec.time_limit_s >= 0 ? spec.time_limit_s : m.time_limit_s);
   TimeUs t = 0;
+  if (settle > 0) {
+    ex.run_until(settle);
+    add_autonomy();
+    t = settle;
+  }
   while (t < limit) {
     t += kUsPerSecond;
     ex.run_until(t);
@@ -222,7 +232,7 @@ RunOutcome run(const RunSpec& spec) {
 }
 
 std::string replay_manifest(const RunSpec& spec, const RunFiles& f) {
-  if (!spec.settings.empty() || !f.nav.empty()) return "";
+  if (!spec.settings.empty() || !f.nav.empty() || spec.settle_s > 0) return "";
   std::ostringstream os;
   os << "# Written by tiller-run: the config of each process of this lockstep run.\n"
      << "# A lockstep log: replay must match bit for bit, heartbeats included.\n"

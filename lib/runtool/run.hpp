@@ -50,7 +50,11 @@ struct RunSpec {
   std::vector<Setting> settings;
   double hold_s = -1;        // s of station keeping after completion; < 0: the mission's
   double time_limit_s = -1;  // s; < 0: the mission's
-  std::string log_file;      // empty: no log
+  // s before the mission starts: the simulator (and tiller-nav) run alone, the vehicle without
+  // ESC, mixer, mission or controllers (no thrust), as an operator waits for the estimate to
+  // settle before starting; the time limit counts from the start. 0: all start together.
+  double settle_s = 0;
+  std::string log_file;  // empty: no log
 };
 
 // The files a run uses, defaults filled in and resolved (app::resolve_path).
@@ -83,8 +87,9 @@ RunOutcome run(const RunSpec& spec);
 
 // The replay manifest for a logged run (tiller-replay LOG finds LOG's .replay.yaml): each
 // process with its config file and the simulator's options. Empty when settings changed a
-// config in memory (a replay from the files would compare another controller), or when the run
-// flew on estimated state (tiller-replay does not replay tiller-nav).
+// config in memory (a replay from the files would compare another controller), when the run
+// flew on estimated state (tiller-replay does not replay tiller-nav), or settled first (the
+// replay starts every process at once).
 std::string replay_manifest(const RunSpec& spec, const RunFiles& files);
 
 }  // namespace tiller::runtool
