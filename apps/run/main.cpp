@@ -136,8 +136,8 @@ int single(const runtool::RunSpec& s) {
                 s.log_file.c_str());
     if (m.empty())
       std::printf(
-          "tiller-run: no replay manifest: --set changed a config in memory, or tiller-nav or "
-          "--settle-s took part\n");
+          "tiller-run: no replay manifest: --set changed a config in memory, or --settle-s "
+          "took part\n");
   }
   return o.completed ? 0 : 1;
 }

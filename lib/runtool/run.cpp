@@ -108,9 +108,10 @@ RunOutcome run(const RunSpec& spec) {
   const bool estimated =
       odometry != a.end() && odometry + 1 != a.end() && odometry[1] == "estimated";
   if (estimated && std::find(a.begin(), a.end(), "--sensors") == a.end()) {
+    out.files.sensors =
+        app::resolve_path(surface ? "config/sim/sensors/usv.yaml" : "config/sim/sensors/rov.yaml");
     args.push_back("--sensors");
-    args.push_back(
-        app::resolve_path(surface ? "config/sim/sensors/usv.yaml" : "config/sim/sensors/rov.yaml"));
+    args.push_back(out.files.sensors);
   }
   const SimOverrides so = sim_overrides(args);
   const auto sroot = load(f.sim, "sim", spec.settings);
@@ -232,7 +233,7 @@ RunOutcome run(const RunSpec& spec) {
 }
 
 std::string replay_manifest(const RunSpec& spec, const RunFiles& f) {
-  if (!spec.settings.empty() || !f.nav.empty() || spec.settle_s > 0) return "";
+  if (!spec.settings.empty() || spec.settle_s > 0) return "";
   std::ostringstream os;
   os << "# Written by tiller-run: the config of each process of this lockstep run.\n"
      << "# A lockstep log: replay must match bit for bit, heartbeats included.\n"
@@ -240,10 +241,12 @@ std::string replay_manifest(const RunSpec& spec, const RunFiles& f) {
      << "  sim: {program: tiller-sim, config: " << f.sim << ", args: [--vehicle, " << f.vehicle
      << ", --mission, " << f.mission;
   for (const auto& a : spec.sim_args) os << ", \"" << a << "\"";
+  if (!f.sensors.empty()) os << ", --sensors, " << f.sensors;
   os << "]}\n"
      << "  esc: " << f.esc << "\n  mixer: " << f.mixer << "\n  velocity-pid: " << f.control
-     << "\n  station-keep: " << f.control << "\n  path-follower: " << f.guidance
-     << "\nheartbeats: true\ntolerance: 0\ntime_tolerance_ms: 0\n";
+     << "\n  station-keep: " << f.control << "\n  path-follower: " << f.guidance;
+  if (!f.nav.empty()) os << "\n  nav: " << f.nav;
+  os << "\nheartbeats: true\ntolerance: 0\ntime_tolerance_ms: 0\n";
   return os.str();
 }
 

@@ -60,7 +60,8 @@ struct RunSpec {
 // The files a run uses, defaults filled in and resolved (app::resolve_path).
 struct RunFiles {
   std::string mission, vehicle, sim, esc, mixer, control, guidance;
-  std::string nav;  // on estimated state
+  std::string nav;      // on estimated state
+  std::string sensors;  // on estimated state without --sensors in sim_args: the default added
 };
 // Throws std::runtime_error naming a file that does not exist and the option that sets it.
 RunFiles resolve_files(const RunSpec& spec);
@@ -87,9 +88,9 @@ RunOutcome run(const RunSpec& spec);
 
 // The replay manifest for a logged run (tiller-replay LOG finds LOG's .replay.yaml): each
 // process with its config file and the simulator's options. Empty when settings changed a
-// config in memory (a replay from the files would compare another controller), when the run
-// flew on estimated state (tiller-replay does not replay tiller-nav), or settled first (the
-// replay starts every process at once).
+// config in memory (a replay from the files would compare another controller), or when the run
+// settled first (the replay starts every process at once). On estimated state it names
+// tiller-nav's config too (and the simulator's sensors file): the estimator replays bit for bit.
 std::string replay_manifest(const RunSpec& spec, const RunFiles& files);
 
 }  // namespace tiller::runtool
