@@ -112,10 +112,12 @@ int run(int argc, char** argv) {
   const LaunchFile& lf = plan.lf;
   std::size_t width = 6;
   for (const auto& p : plan.procs) width = std::max(width, p.name.size());
+  const RunDir run_dir(lf.name);  // ${RUN_DIR}: removed when the run ends
   const std::map<std::string, std::string> vars{{"LCM_URL", lf.lcm_url},
                                                 {"ROOT", lf.root},
                                                 {"LOG_FILE", plan.log_file},
-                                                {"LAUNCH_NAME", lf.name}};
+                                                {"LAUNCH_NAME", lf.name},
+                                                {"RUN_DIR", run_dir.path()}};
   PosixHost host(lf.root, vars, {self_dir()}, child_env, stdout, width);
   if (!check_programs(plan, host, std::cerr)) return kExitUsage;
   if (args.flag("check")) {

@@ -45,6 +45,7 @@ app::Spec spec() {
         "config settings FILE.KEY=VALUE[,...] (FILE: sim, esc, mixer, control, guidance, nav)", ""},
        {"hold-s", "S", "station keeping after completion, s >= 0 (default: the mission's)", ""},
        {"time-limit-s", "S", "simulated time limit, s > 0 (default: the mission's)", ""},
+       {"settle-s", "S", "the simulator (and tiller-nav) alone for S s before the mission", ""},
        {"log", "FILE", "write the run's LCM log here (and FILE's .replay.yaml)", ""},
        {"sweep", "AXIS", "NAME=FROM:TO:COUNT or NAME=V1,V2,... (see docs/tuning.md)", ""},
        {"sweep2", "AXIS", "a second axis: every combination of the two", ""},
@@ -94,6 +95,8 @@ runtool::RunSpec run_spec(const app::Args& a) {
   if (!a.get("time-limit-s").empty())
     s.time_limit_s =
         app::number_option(a, "time-limit-s", 1e-3, 1e6, "a number of seconds in [0.001, 1e6]");
+  if (!a.get("settle-s").empty())
+    s.settle_s = app::number_option(a, "settle-s", 0, 1e6, "a number of seconds in [0, 1e6]");
   s.log_file = a.get("log");
   return s;
 }
@@ -132,7 +135,9 @@ int single(const runtool::RunSpec& s) {
     std::printf("\ntiller-run: log %s (tiller-log summary, tiller-plot, tiller-replay read it)\n",
                 s.log_file.c_str());
     if (m.empty())
-      std::printf("tiller-run: no replay manifest: --set changed a config in memory\n");
+      std::printf(
+          "tiller-run: no replay manifest: --set changed a config in memory, or --settle-s "
+          "took part\n");
   }
   return o.completed ? 0 : 1;
 }

@@ -10,6 +10,7 @@
 #include <csignal>
 #include <cstdint>
 #include <cstdio>
+#include <cstdlib>
 #include <cstring>
 #include <filesystem>
 #include <stdexcept>
@@ -273,6 +274,22 @@ void PosixHost::on_readable(int fd) {
     pipes_.erase(it);
     return;
   }
+}
+
+RunDir::RunDir(const std::string& launch_name) {
+  const char* t = std::getenv("TMPDIR");
+  std::string name = launch_name;
+  for (char& c : name)
+    if (c == '/' || c == ' ') c = '_';
+  std::string tmpl = std::string(t && *t ? t : "/tmp") + "/tiller-" + name + "-XXXXXX";
+  if (::mkdtemp(tmpl.data()) == nullptr)
+    throw std::runtime_error("cannot make the run directory " + tmpl + ": " + std::strerror(errno));
+  path_ = tmpl;
+}
+
+RunDir::~RunDir() {
+  std::error_code ec;
+  std::filesystem::remove_all(path_, ec);
 }
 
 }  // namespace tiller::launch

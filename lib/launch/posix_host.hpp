@@ -58,6 +58,22 @@ class PosixHost : public ProcessHost {
   int guard_fd_ = -1;  // write end of the guard's pipe
 };
 
+// A private scratch directory for one run, ${RUN_DIR} in a launch file: mode 0700, made under
+// $TMPDIR (else /tmp) as tiller-<launch name>-XXXXXX, removed with everything in it when this
+// object goes (the end of the run). For what processes of one run share that is not LCM: a
+// pseudo-terminal's link, a daemon's control socket (config/launch/sim_usv_sensors.yaml).
+class RunDir {
+ public:
+  explicit RunDir(const std::string& launch_name);  // throws std::runtime_error
+  ~RunDir();
+  RunDir(const RunDir&) = delete;
+  RunDir& operator=(const RunDir&) = delete;
+  const std::string& path() const { return path_; }
+
+ private:
+  std::string path_;
+};
+
 // Directory of the running executable (for finding sibling tiller-* programs).
 std::string self_dir();
 

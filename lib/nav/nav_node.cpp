@@ -53,6 +53,7 @@ NavNode::NavNode(const NavParams& p)
   gate_heading_ = &counter("rejected.heading.gate");
   gate_depth_ = &counter("rejected.depth.gate");
   fixes_used_ = &counter("gnss.fixes_used");
+  repeated_ = &counter("rejected.gnss.repeated");
   no_fix_ = &counter("gnss.no_fix");
   resets_ = &counter("resets");
   too_late_ = &counter("gnss.too_late");
@@ -115,6 +116,13 @@ void NavNode::on_gnss(const gnss_fix_t& m, TimeUs now) {
     ++*no_fix_;
     return;
   }
+  // One measurement, fused once: the same epoch again (gnss_utime, the receiver's time of fix)
+  // is refused and counted (0: a driver that does not know the time; not compared).
+  if (m.gnss_utime != 0 && m.gnss_utime == last_epoch_) {
+    reject(*repeated_);
+    return;
+  }
+  last_epoch_ = m.gnss_utime;
   // When the fix was taken: its utime (reception) less the receiver's configured delay.
   const TimeUs taken = std::min(m.utime, now) - from_seconds(p_.gnss.latency_s);
   if (started_ && to_seconds(t_ - taken) > p_.gnss.max_latency_s) {

@@ -8,15 +8,16 @@
 // the IMU (its fused quaternion, else the accelerometer's tilt); heading from TILLER_HEADING
 // (a magnetic one plus heading.declination_deg); depth from TILLER_PRESSURE, or 0 for a surface
 // vehicle. The first measurement of each part sets it; later ones pass the innovation gate or
-// are refused and counted (rejected.<input>.gate). `gnss.reset_after` refused fixes in a row
-// reset the position to the fix (gnss.resets).
-// Validity (odometry_t.valid): position while a fix was used and its largest 1-sigma is within
-// limits.position_std_m; DEAD_RECKONING when no fix was used for gnss.timeout_s (the covariance
-// grows); velocity within limits.velocity_std_mps; attitude while the IMU is fresh and the heading
-// within limits.heading_std_deg; depth while a pressure sample is fresh (or a surface vehicle).
-// Bad input (core/message_checks.hpp) is dropped and counted before it changes anything
-// (rejected.<input>.invalid); stale or future by its utime: rejected.<input>.stale / .future.
-// Time comes only from the executor: the filter runs on the times it is told.
+// are refused and counted (rejected.<input>.gate); a fix of an epoch already taken (the same
+// gnss_utime) is refused and counted (rejected.gnss.repeated). `gnss.reset_after` refused fixes in
+// a row reset the position to the fix (gnss.resets). Validity (odometry_t.valid): position while a
+// fix was used and its largest 1-sigma is within limits.position_std_m; DEAD_RECKONING when no fix
+// was used for gnss.timeout_s (the covariance grows); velocity within limits.velocity_std_mps;
+// attitude while the IMU is fresh and the heading within limits.heading_std_deg; depth while a
+// pressure sample is fresh (or a surface vehicle). Bad input (core/message_checks.hpp) is dropped
+// and counted before it changes anything (rejected.<input>.invalid); stale or future by its utime:
+// rejected.<input>.stale / .future. Time comes only from the executor: the filter runs on the times
+// it is told.
 #pragma once
 
 #include <cstdint>
@@ -85,6 +86,8 @@ class NavNode : public Node {
   std::int64_t *bad_gnss_, *bad_imu_, *bad_heading_, *bad_pressure_;
   std::int64_t *gate_gnss_, *gate_gnss_velocity_, *gate_heading_, *gate_depth_;
   std::int64_t *fixes_used_, *no_fix_, *resets_, *too_late_, *dr_entered_, *invalid_out_;
+  std::int64_t* repeated_;       // rejected.gnss.repeated: an epoch already fused
+  std::int64_t last_epoch_ = 0;  // gnss_utime of the last fix taken
 };
 
 }  // namespace tiller::nav

@@ -180,7 +180,8 @@ bool run_live(Node& node, const std::vector<std::string>& outputs, const std::ve
               StampBus& bus, ProcessReport& rep) {
   const auto pubs = node.published_channels();
   std::set<std::string> pub(pubs.begin(), pubs.end());
-  pub.insert(outputs.begin(), outputs.end());
+  for (const auto& o : outputs)  // a listed output this node does not advertise is another's
+    if (node.advertises(o)) pub.insert(o);
   const TimeUs period = node.tick_period();
   const auto& db = logtools::tiller_types();
   logtools::Decoded d;
@@ -278,7 +279,11 @@ ProcessReport replay_process(const ProcessEntry& entry, const std::string& confi
     if (!log.empty()) rx.run(log, log.front().time, log.back().time);
     outputs = rx.outputs();
   }
-  std::set<std::string> chans(entry.outputs.begin(), entry.outputs.end());
+  // The entry's outputs that this node advertises (tiller-sim --odometry estimated publishes no
+  // TILLER_ODOMETRY: in its log that channel is tiller-nav's), and whatever it published.
+  std::set<std::string> chans;
+  for (const auto& ch : entry.outputs)
+    if (node->advertises(ch)) chans.insert(ch);
   for (const auto& e : outputs) chans.insert(e.channel);
   if (opt.heartbeats) {
     chans.insert(node->heartbeat_channel());

@@ -71,6 +71,8 @@ ChannelReport compare_channel(const std::string& channel, const std::vector<Even
 struct ProcessEntry {
   std::string name;            // node name, e.g. "mixer"
   std::string default_config;  // relative to the source tree
+  // Compared when the node made from the config advertises them (tiller-sim --odometry estimated
+  // does not advertise TILLER_ODOMETRY: in that log it is tiller-nav's), and whatever it publishes.
   std::vector<std::string> outputs;
   std::function<std::unique_ptr<Node>(const std::string& config_path)> make;
   // When set, used instead of `make` with the process's recorded command-line arguments (from

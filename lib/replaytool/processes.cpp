@@ -8,6 +8,8 @@
 #include "guidance/follower_config.hpp"
 #include "guidance/path_follower_node.hpp"
 #include "mixer/mixer_node.hpp"
+#include "nav/nav_node.hpp"
+#include "nav/nav_params.hpp"
 #include "runtime/channels.hpp"
 #include "sim/sim_node.hpp"
 #include "sim/sim_options.hpp"
@@ -76,6 +78,14 @@ const std::vector<ProcessEntry>& replayable_processes() {
        [](const std::string& c) {
          return std::make_unique<TeleopNode>(load_teleop_file(c), TeleopNode::Input::replay);
        }},
+      // The estimator: a Kalman filter integrates every input, so a live log is shown, not
+      // judged; a lockstep log (tiller-run --odometry estimated) must match bit for bit.
+      {"nav",
+       "config/nav/usv.yaml",
+       {ch::kOdometry},
+       [](const std::string& c) { return std::make_unique<nav::NavNode>(nav::load_nav_file(c)); },
+       {},
+       /*integrating=*/true},
       {"sim",
        "config/sim/sim.yaml",
        {ch::kOdometry, ch::kGroundTruth, ch::kSimState},

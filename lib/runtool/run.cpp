@@ -109,9 +109,10 @@ RunOutcome run(const RunSpec& spec) {
   const bool estimated =
       odometry != a.end() && odometry + 1 != a.end() && odometry[1] == "estimated";
   if (estimated && std::find(a.begin(), a.end(), "--sensors") == a.end()) {
+    out.files.sensors =
+        app::resolve_path(surface ? "config/sim/sensors/usv.yaml" : "config/sim/sensors/rov.yaml");
     args.push_back("--sensors");
-    args.push_back(
-        app::resolve_path(surface ? "config/sim/sensors/usv.yaml" : "config/sim/sensors/rov.yaml"));
+    args.push_back(out.files.sensors);
   }
   const SimOverrides so = sim_overrides(args);
   const auto sroot = load(f.sim, "sim", spec.settings);
@@ -161,8 +162,12 @@ RunOutcome run(const RunSpec& spec) {
   LockstepExecutor ex(0);
   ex.add(sim);
   if (navn) ex.add(*navn);  // the estimator right after the plant, as the sensors' consumer
-  for (Node* n : std::initializer_list<Node*>{&esc, &mixer, &mnode, &follower, &vpid, &skeep})
-    ex.add(*n);
+  const auto add_autonomy = [&] {
+    for (Node* n : std::initializer_list<Node*>{&esc, &mixer, &mnode, &follower, &vpid, &skeep})
+      ex.add(*n);
+  };
+  const TimeUs settle = from_seconds(std::max(spec.settle_s, 0.0));
+  if (settle == 0) add_autonomy();
 
   std::unique_ptr<LogWriter> log;
   if (!spec.log_file.empty()) {
@@ -220,8 +225,14 @@ RunOutcome run(const RunSpec& spec) {
   });
 
   const double hold = spec.hold_s >= 0 ? spec.hold_s : m.station_keep_s;
-  const TimeUs limit = from_seconds(spec.time_limit_s >= 0 ? spec.time_limit_s : m.time_limit_s);
+  const TimeUs limit =
+      settle + from_seconds(spec.time_limit_s >= 0 ? spec.time_limit_s : m.time_limit_s);
   TimeUs t = 0;
+  if (settle > 0) {
+    ex.run_until(settle);
+    add_autonomy();
+    t = settle;
+  }
   while (t < limit) {
     t += kUsPerSecond;
     ex.run_until(t);
@@ -235,7 +246,7 @@ RunOutcome run(const RunSpec& spec) {
 }
 
 std::string replay_manifest(const RunSpec& spec, const RunFiles& f) {
-  if (!spec.settings.empty() || !f.nav.empty()) return "";
+  if (!spec.settings.empty() || spec.settle_s > 0) return "";
   std::ostringstream os;
   os << "# Written by tiller-run: the config of each process of this lockstep run.\n"
      << "# A lockstep log: replay must match bit for bit, heartbeats included.\n"
@@ -243,10 +254,12 @@ std::string replay_manifest(const RunSpec& spec, const RunFiles& f) {
      << "  sim: {program: tiller-sim, config: " << f.sim << ", args: [--vehicle, " << f.vehicle
      << ", --mission, " << f.mission;
   for (const auto& a : spec.sim_args) os << ", \"" << a << "\"";
+  if (!f.sensors.empty()) os << ", --sensors, " << f.sensors;
   os << "]}\n"
      << "  esc: " << f.esc << "\n  mixer: " << f.mixer << "\n  velocity-pid: " << f.control
-     << "\n  station-keep: " << f.control << "\n  path-follower: " << f.guidance
-     << "\nheartbeats: true\ntolerance: 0\ntime_tolerance_ms: 0\n";
+     << "\n  station-keep: " << f.control << "\n  path-follower: " << f.guidance;
+  if (!f.nav.empty()) os << "\n  nav: " << f.nav;
+  os << "\nheartbeats: true\ntolerance: 0\ntime_tolerance_ms: 0\n";
   return os.str();
 }
 

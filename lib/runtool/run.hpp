@@ -50,13 +50,18 @@ struct RunSpec {
   std::vector<Setting> settings;
   double hold_s = -1;        // s of station keeping after completion; < 0: the mission's
   double time_limit_s = -1;  // s; < 0: the mission's
-  std::string log_file;      // empty: no log
+  // s before the mission starts: the simulator (and tiller-nav) run alone, the vehicle without
+  // ESC, mixer, mission or controllers (no thrust), as an operator waits for the estimate to
+  // settle before starting; the time limit counts from the start. 0: all start together.
+  double settle_s = 0;
+  std::string log_file;  // empty: no log
 };
 
 // The files a run uses, defaults filled in and resolved (app::resolve_path).
 struct RunFiles {
   std::string mission, vehicle, sim, esc, mixer, control, guidance;
-  std::string nav;  // on estimated state
+  std::string nav;      // on estimated state
+  std::string sensors;  // on estimated state without --sensors in sim_args: the default added
 };
 // Throws std::runtime_error naming a file that does not exist and the option that sets it.
 RunFiles resolve_files(const RunSpec& spec);
@@ -88,7 +93,8 @@ RunOutcome run(const RunSpec& spec);
 // The replay manifest for a logged run (tiller-replay LOG finds LOG's .replay.yaml): each
 // process with its config file and the simulator's options. Empty when settings changed a
 // config in memory (a replay from the files would compare another controller), or when the run
-// flew on estimated state (tiller-replay does not replay tiller-nav).
+// settled first (the replay starts every process at once). On estimated state it names
+// tiller-nav's config too (and the simulator's sensors file): the estimator replays bit for bit.
 std::string replay_manifest(const RunSpec& spec, const RunFiles& files);
 
 }  // namespace tiller::runtool

@@ -58,7 +58,8 @@ std::string encode_row(const Row& r) {
      << r.final_m << " " << r.heading_rad << " " << r.vrx_way << " " << r.vrx_sk << " " << r.sim_s
      << " " << r.missed << " " << r.steady_rms << " " << r.overshoot << " " << r.max_setpoint << " "
      << r.max_speed << " " << r.path_m << " " << r.final_30 << " " << r.est_rms << " "
-     << r.est_head_deg << "\n";
+     << r.est_head_deg << " " << r.est_xte_rms << " " << r.est_steady_rms << " " << r.est_missed
+     << "\n";
   return os.str();
 }
 
@@ -70,7 +71,8 @@ Row decode_row(const std::string& text) {
   if (tag == "ok") {
     is >> r.completed >> r.xte_rms >> r.xte_max >> r.time_s >> r.final_m >> r.heading_rad >>
         r.vrx_way >> r.vrx_sk >> r.sim_s >> r.missed >> r.steady_rms >> r.overshoot >>
-        r.max_setpoint >> r.max_speed >> r.path_m >> r.final_30 >> r.est_rms >> r.est_head_deg;
+        r.max_setpoint >> r.max_speed >> r.path_m >> r.final_30 >> r.est_rms >> r.est_head_deg >>
+        r.est_xte_rms >> r.est_steady_rms >> r.est_missed;
     r.ok = !is.fail();
     if (!r.ok) r.error = "unreadable result '" + text + "'";
   } else if (tag == "error") {
@@ -228,6 +230,14 @@ Row row_of(const RunOutcome& o) {
   if (o.estimated) {
     r.est_rms = o.scores.position_error_rms;
     r.est_head_deg = o.scores.heading_error_rms * 180.0 / M_PI;
+    if (o.scores.estimate_path_scores) {
+      r.est_xte_rms = o.scores.estimate_path_scores->cross_track_rms;
+      r.est_missed = o.scores.estimate_path_scores->waypoints_missed;
+      r.est_steady_rms =
+          scores::corner_scores(o.scores.estimate_poses, o.scores.estimate_path, o.scores.start, 60,
+                                o.completed ? o.completed_at : 1e300)
+              .steady_cross_track_rms;
+    }
   }
   r.overshoot = c.max_overshoot;
   r.max_setpoint = o.max_setpoint_speed;
@@ -362,9 +372,15 @@ void print_table(const std::vector<Axis>& axes, const std::vector<Row>& rows, st
   }
   for (std::size_t k = 0; k < axes.size(); ++k)
     std::fprintf(out, "%-*s  ", width[k], axes[k].name.c_str());
-  std::fprintf(out, "%8s %8s %7s %8s %8s %8s %10s %9s %7s %6s %5s\n", "xte_rms", "xte_max",
-               "time_s", "final_m", "vrx_way", "vrx_sk", "steady_rms", "overshoot", "max_sp",
-               "missed", "done");
+  // On estimated state: the estimation RMS, and the cross-track RMS and waypoints missed on the
+  // estimate (the pose the follower followed).
+  bool estimated = false;
+  for (const auto& r : rows) estimated |= r.ok && r.est_rms >= 0;
+  std::fprintf(out, "%8s %8s %7s %8s %8s %8s %10s %9s %7s %6s %5s", "xte_rms", "xte_max", "time_s",
+               "final_m", "vrx_way", "vrx_sk", "steady_rms", "overshoot", "max_sp", "missed",
+               "done");
+  if (estimated) std::fprintf(out, " %7s %11s %10s", "est_rms", "est_xte_rms", "est_missed");
+  std::fprintf(out, "\n");
   for (const auto& r : rows) {
     for (std::size_t k = 0; k < axes.size(); ++k)
       std::fprintf(out, "%-*s  ", width[k], label(axes[k], axes[k].values[r.index[k]]).c_str());
@@ -374,10 +390,12 @@ void print_table(const std::vector<Axis>& axes, const std::vector<Row>& rows, st
     }
     char steady[16] = "         -";  // no leg long enough
     if (r.steady_rms >= 0) std::snprintf(steady, sizeof steady, "%10.4f", r.steady_rms);
-    std::fprintf(out, "%8.3f %8.3f %7.1f %8.3f %8.3f %8.3f %s %9.3f %6.3f%s %6d %5s\n", r.xte_rms,
+    std::fprintf(out, "%8.3f %8.3f %7.1f %8.3f %8.3f %8.3f %s %9.3f %6.3f%s %6d %5s", r.xte_rms,
                  r.xte_max, r.time_s, r.final_m, r.vrx_way, r.vrx_sk, steady, r.overshoot,
                  r.max_setpoint, r.max_setpoint > r.max_speed + 1e-9 ? "!" : " ", r.missed,
                  r.completed ? "yes" : "no");
+    if (estimated) std::fprintf(out, " %7.3f %11.3f %10d", r.est_rms, r.est_xte_rms, r.est_missed);
+    std::fprintf(out, "\n");
   }
   // The best run for each score (lower is better for every one).
   for (const auto& m : kMetrics) {
@@ -402,7 +420,8 @@ std::string csv(const std::vector<Axis>& axes, const std::vector<Row>& rows) {
   for (const auto& a : axes) os << a.name << ",";
   os << "completed";
   for (const auto& m : kMetrics) os << "," << m.name;
-  os << ",missed,max_speed,path_m,sim_s,final_30,est_rms,est_head_deg,error\n";
+  os << ",missed,max_speed,path_m,sim_s,final_30,est_rms,est_head_deg,est_xte_rms,est_steady_rms,"
+        "est_missed,error\n";
   for (const auto& r : rows) {
     for (std::size_t k = 0; k < axes.size(); ++k) os << r.index[k] << ",";
     for (std::size_t k = 0; k < axes.size(); ++k)
@@ -421,9 +440,12 @@ std::string csv(const std::vector<Axis>& axes, const std::vector<Row>& rows) {
       os << r.max_speed << "," << r.path_m << "," << r.sim_s << ","
          << (r.final_30 >= 0 ? std::to_string(r.final_30) : "NaN") << ","
          << (r.est_rms >= 0 ? std::to_string(r.est_rms) : "NaN") << ","
-         << (r.est_head_deg >= 0 ? std::to_string(r.est_head_deg) : "NaN");
+         << (r.est_head_deg >= 0 ? std::to_string(r.est_head_deg) : "NaN") << ","
+         << (r.est_xte_rms >= 0 ? std::to_string(r.est_xte_rms) : "NaN") << ","
+         << (r.est_steady_rms >= 0 ? std::to_string(r.est_steady_rms) : "NaN") << ","
+         << (r.est_rms >= 0 ? std::to_string(r.est_missed) : "NaN");
     else
-      os << "NaN,NaN,NaN,NaN,NaN,NaN";
+      os << "NaN,NaN,NaN,NaN,NaN,NaN,NaN,NaN,NaN";
     os << ",";
     std::string e = r.error;
     for (char& c : e)

@@ -59,6 +59,11 @@ struct Row {
   double path_m = 0;     // m: the length of the path as followed (for time / (length / cruise))
   double final_30 = -1;  // m: distance to the goal 30 s after completion (or at the end); -1: none
   double est_rms = -1, est_head_deg = -1;  // estimation error RMS (m, deg); -1: on the truth
+  // On estimated state, the path scored on the estimate (the pose the follower followed): the
+  // cross-track RMS to the completion, the steady cross-track RMS as steady_rms (m; -1: on the
+  // truth, or no leg that long), waypoints missed by the estimate.
+  double est_xte_rms = -1, est_steady_rms = -1;
+  int est_missed = 0;
 };
 
 // The row of a finished run.

@@ -7,6 +7,7 @@
 #include <algorithm>
 #include <cmath>
 #include <stdexcept>
+#include <utility>
 
 #include "core/angles.hpp"
 
@@ -51,7 +52,13 @@ RunScores score_events(const std::vector<Event>& events, const std::vector<Goal>
   r.path = path_as_followed(path, r.poses, start);
   r.path_scores = score_path(r.poses, r.path, start, complete_at);
   r.samples = r.poses.size();
-  if (have_truth) score_estimation(estimate, r.poses, r);
+  if (have_truth && !estimate.empty()) {
+    score_estimation(estimate, r.poses, r);
+    // The follower followed the estimate: a one-point path from where the estimate was.
+    r.estimate_path = path_as_followed(path, estimate, start);
+    r.estimate_path_scores = score_path(estimate, r.estimate_path, start, complete_at);
+    r.estimate_poses = std::move(estimate);
+  }
   r.start = start;
   r.end = r.poses.back().t;
   if (r.path_scores.time_to_complete >= 0) {
@@ -105,12 +112,22 @@ void print_scores(const RunScores& r, std::FILE* out) {
     std::fprintf(out, "final heading err   %.3f rad\n", s.final_heading_error);
   std::fprintf(out, "VRX wayfinding      %.3f (mean over %d waypoints%s)\n", s.vrx_wayfinding,
                s.wayfinding_points, s.start_excluded ? ", the start point left out" : "");
-  if (r.estimation_samples > 0 && r.position_error_max > 0) {  // not on truth odometry
+  if (r.estimated()) {  // not on truth odometry
     std::fprintf(out,
                  "estimation error    position RMS %.3f m (max %.3f m), heading RMS %.2f deg "
                  "(TILLER_ODOMETRY vs truth, %zu samples)\n",
                  r.position_error_rms, r.position_error_max, r.heading_error_rms * 180.0 / M_PI,
                  r.estimation_samples);
+  }
+  if (r.estimated() && r.estimate_path_scores) {
+    const auto& e = *r.estimate_path_scores;
+    char time[32] = "not completed";
+    if (e.time_to_complete >= 0) std::snprintf(time, sizeof time, "%.1f s", e.time_to_complete);
+    std::fprintf(out,
+                 "on the estimate     cross-track RMS %.3f m (max %.3f m), waypoints reached %d, "
+                 "missed %d, time to complete %s (TILLER_ODOMETRY, %zu samples)\n",
+                 e.cross_track_rms, e.cross_track_max, e.waypoints_reached, e.waypoints_missed,
+                 time, r.estimate_poses.size());
   }
   if (s.time_to_complete >= 0) {
     std::fprintf(out, "VRX station keeping %.3f (from completion to the end of the log, %.0f s)\n",

@@ -2,6 +2,8 @@
 // and the lines tiller-score prints. The path is the first TILLER_PATH (or the mission's
 // waypoints when given); the pose is TILLER_GROUND_TRUTH when the run has it, else
 // TILLER_ODOMETRY; completion is the first TILLER_PATH_PROGRESS of that path saying complete.
+// With both (a simulated run on estimated state) the path is also scored on the odometry, the
+// pose the path follower followed: the controller's quality apart from the estimator's.
 // Used by tiller-score (from a log) and tiller-run (from the lockstep run's messages), so both
 // print the same numbers for the same run.
 #pragma once
@@ -31,6 +33,17 @@ struct RunScores {
   std::size_t estimation_samples = 0;
   double position_error_rms = -1, position_error_max = -1;  // m, horizontal
   double heading_error_rms = -1;                            // rad
+  // With both: the path scored on the odometry poses (estimate_poses), with the same start and
+  // completion: cross-track to the path as the follower followed it from the estimate, waypoints
+  // reached by the estimate within the visit radius, time to complete (the follower's completion;
+  // without one, when the estimate reached the last waypoint). On truth odometry (the estimate
+  // is the truth: estimated() false) the same numbers as path_scores.
+  std::vector<Pose> estimate_poses;
+  std::vector<Goal> estimate_path;  // path_as_followed from the estimate
+  std::optional<PathScores> estimate_path_scores;
+  // The odometry is an estimate (differs from the truth by more than 1 um somewhere), not the
+  // truth re-published (which the interpolation puts within about 1e-18 m of it).
+  bool estimated() const { return estimation_samples > 0 && position_error_max > 1e-6; }
 };
 
 // The estimation error of `estimate` against `truth` (both in time order): RMS and largest
@@ -48,7 +61,8 @@ RunScores score_events(const std::vector<Event>& events,
 // The channels score_events reads (a regex for read_log).
 inline constexpr const char* kScoredChannels = "TILLER_(GROUND_TRUTH|ODOMETRY|PATH|PATH_PROGRESS)";
 
-// tiller-score's lines ("pose from ...", "waypoints ...", ..., "VRX station keeping ...").
+// tiller-score's lines ("pose from ...", "waypoints ...", ..., "VRX station keeping ..."); on
+// estimated state also "estimation error ..." and "on the estimate ...".
 void print_scores(const RunScores& s, std::FILE* out);
 
 }  // namespace tiller::scores

@@ -56,6 +56,7 @@ GnssNode::GnssNode(const GnssParams& p) : Node("gnss", kUsPerSecond), p_(p) {
   fixes_ = &counter("fixes");
   no_fix_ = &counter("reports.no_fix");
   rejected_ = &counter("rejected.fix.range");
+  repeated_ = &counter("reports.repeated_epoch");
   msg_.satellites = -1;
   set_health(heartbeat_t::STATE_FAULT, link_problem_);
 }
@@ -111,6 +112,14 @@ void GnssNode::on_gps(const gps_data_t& d, TimeUs now) {
     reject(*rejected_);
     return;
   }
+  // One fix per epoch: gpsd sends a second TPV for an epoch while it learns a receiver's cycle
+  // (and a client that does not clear `set` sees one per report); the estimator must not fuse
+  // the same measurement twice.
+  if (has_fix && msg_.gnss_utime > 0 && msg_.gnss_utime == last_epoch_) {
+    ++*repeated_;
+    return;
+  }
+  if (has_fix && msg_.gnss_utime > 0) last_epoch_ = msg_.gnss_utime;
   if (has_fix) {
     ++*fixes_;
     last_fix_ = now;

@@ -1,5 +1,6 @@
 // tiller-gnss's logic: gpsd's reports (libgps gps_data_t, one per gps_read) -> gnss_fix_t on
-// TILLER_GNSS, one message per TPV report that carries a mode.
+// TILLER_GNSS, one message per TPV report that carries a mode, and one fix per epoch (a TPV whose
+// fix time is the last published fix's is dropped and counted: reports.repeated_epoch).
 //
 // Mapping (gpsd client API, https://gpsd.gitlab.io/gpsd/libgps.html and gpsd_json(5)):
 // fix.mode (MODE_NO_FIX / 2D / 3D) and fix.status (DGPS, RTK fixed/float, dead reckoning) ->
@@ -60,7 +61,8 @@ class GnssNode : public Node {
   bool last_had_fix_ = false;
   double gst_time_ = -1;  // s since the epoch of the last GST report
   double gst_std_[3] = {0, 0, 0};
-  std::int64_t *fixes_, *no_fix_, *rejected_;
+  std::int64_t last_epoch_ = 0;  // gnss_utime of the last fix published
+  std::int64_t *fixes_, *no_fix_, *rejected_, *repeated_;
 };
 
 }  // namespace tiller::sensors

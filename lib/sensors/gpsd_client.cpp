@@ -59,6 +59,9 @@ std::string GpsdClient::connect(TimeUs now) {
 bool GpsdClient::pump(TimeUs now) {
   if (!open_) return false;
   while (::gps_waiting(data_.get(), 0)) {
+    // libgps ORs each report's bits into `set` and keeps the last report's: cleared, a SKY or GST
+    // report after a TPV does not look like that TPV again (MODE_SET).
+    data_->set = 0;
     if (::gps_read(data_.get(), nullptr, 0) < 0) {
       drop("lost the connection to gpsd at " + p_.host + ":" + p_.port, now);
       return false;

@@ -194,7 +194,7 @@ SimNode::SimNode(const SimParams& params, const SimVehicle& v)
                         ") has no dynamics.wind_coefficients, so the wind would do nothing");
   }
   subscribe(channels::kEscOutput, &SimNode::on_esc_output);
-  advertise<odometry_t>(channels::kOdometry);
+  if (p_.publish_odometry) advertise<odometry_t>(channels::kOdometry);  // else tiller-nav's
   advertise<odometry_t>(channels::kGroundTruth);
   advertise<sim_state_t>(channels::kSimState);
   advertise<gnss_fix_t>(channels::kGnss);

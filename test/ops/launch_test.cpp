@@ -18,6 +18,7 @@
 #include "core/config.hpp"
 #include "core/lcm_url.hpp"
 #include "launch/launch_file.hpp"
+#include "launch/posix_host.hpp"
 #include "launch/supervisor.hpp"
 
 namespace tiller::launch {
@@ -158,6 +159,31 @@ TEST(LaunchFile, Substitution) {
   EXPECT_THROW(substitute("${TILLER_NO_SUCH_VARIABLE_42}", {}), std::invalid_argument);
   EXPECT_EQ(substitute("--m=${TILLER_NO_SUCH_VARIABLE_42:-a/b.yaml}", {}), "--m=a/b.yaml");
   EXPECT_EQ(substitute("${LCM_URL:-x}", {{"LCM_URL", "y"}}), "y");
+}
+
+// ${RUN_DIR}: a new directory per run, 0700, under $TMPDIR, gone with what is in it at the end.
+TEST(LaunchFile, RunDirIsPrivateAndRemovedWithItsContents) {
+  const fs::path base = fs::temp_directory_path() / ("tiller-rundir-" + std::to_string(::getpid()));
+  fs::create_directories(base);
+  ::setenv("TMPDIR", base.c_str(), 1);
+  std::string path;
+  {
+    const RunDir a("my launch/x"), b("my launch/x");
+    path = a.path();
+    EXPECT_NE(a.path(), b.path());
+    EXPECT_EQ(fs::path(a.path()).parent_path(), base);
+    EXPECT_EQ(fs::path(a.path()).filename().string().rfind("tiller-my_launch_x-", 0), 0u);
+    EXPECT_EQ(fs::status(a.path()).permissions(), fs::perms::owner_all);
+    fs::create_directories(a.path() + "/sub");
+    std::ofstream(a.path() + "/sub/gpsd.sock") << "x";
+    fs::create_symlink("/dev/null", a.path() + "/gps0");
+  }
+  EXPECT_FALSE(fs::exists(path));
+  EXPECT_TRUE(fs::exists("/dev/null"));  // a link in it is removed, not its target
+  ::setenv("TMPDIR", (base / "missing").c_str(), 1);
+  EXPECT_THROW(RunDir("x"), std::runtime_error);
+  ::unsetenv("TMPDIR");
+  fs::remove_all(base);
 }
 
 // ---------------------------------------------------------------- supervisor, fake host

@@ -31,6 +31,7 @@ class GainNode : public Node {
  public:
   explicit GainNode(double gain) : Node("gain", 50'000), gain_(gain) {
     subscribe(channels::kOdometry, &GainNode::on_odom);
+    advertise<wrench_t>(channels::kWrenchVelocity);  // a listed output is compared if advertised
   }
   void on_odom(const odometry_t& m, TimeUs) { north_ = m.position[0]; }
   void on_tick(TimeUs now) override {

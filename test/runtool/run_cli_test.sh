@@ -38,6 +38,21 @@ done
 "$bin/tiller-replay" run.lcmlog > replay.out 2>&1 || { bad "tiller-replay of the log failed"; tail -15 replay.out; }
 grep -q "tiller-replay: PASS" replay.out || bad "no PASS from tiller-replay: $(tail -3 replay.out)"
 
+# 2b. On estimated state the estimator replays too: tiller-nav's odometry bit for bit (a Kalman
+#     filter integrates every input: one changed input or setting changes every later output);
+#     a changed setting (the fix's latency 0.1 -> 0.2 s) is a FAIL naming TILLER_ODOMETRY.
+"$bin/tiller-run" config/missions/default.yaml --odometry estimated --log est.lcmlog > est.out 2>&1 ||
+  bad "tiller-run --odometry estimated failed: $(tail -3 est.out)"
+grep -q "^  nav: .*config/nav/usv_sim.yaml" est.replay.yaml || bad "the estimated run's manifest names no nav: $(cat est.replay.yaml)"
+"$bin/tiller-replay" est.lcmlog > est_replay.out 2>&1 || { bad "tiller-replay of the estimated log failed"; tail -15 est_replay.out; }
+grep -Eq "^tiller-replay: PASS \(7 processes checked: .*nav" est_replay.out || bad "nav not checked: $(tail -3 est_replay.out)"
+grep -Eq "^  TILLER_ODOMETRY +matching \([0-9]{4,} messages\)" est_replay.out || bad "nav's odometry not matched bit for bit"
+sed 's/^  latency_s: 0.1 /  latency_s: 0.2 /' "$src/config/nav/usv_sim.yaml" > nav_changed.yaml
+cmp -s "$src/config/nav/usv_sim.yaml" nav_changed.yaml && bad "could not change gnss.latency_s"
+"$bin/tiller-replay" est.lcmlog --process nav --config nav_changed.yaml > est_changed.out 2>&1; rc=$?
+[ $rc -eq 1 ] || bad "a changed nav setting gave exit $rc, expected 1 (FAIL)"
+grep -q "TILLER_ODOMETRY *DIFFERENT" est_changed.out || bad "the odometry difference is not reported: $(tail -5 est_changed.out)"
+
 # 3. Determinism: the same run again writes the same bytes.
 "$bin/tiller-run" config/missions/default.yaml --log again.lcmlog > /dev/null 2>&1
 cmp -s run.lcmlog again.lcmlog || bad "two runs wrote different logs"

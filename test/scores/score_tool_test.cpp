@@ -1,6 +1,7 @@
 // tiller-score on synthetic logs: a one-point path is scored as the follower follows it (from
 // where the boat was, so the cross-track is the distance to that line, not to the goal), the
-// wayfinding mean leaves out the start, and a run that never completes says so.
+// wayfinding mean leaves out the start, a run that never completes says so, and a run on
+// estimated state is scored on the estimate too.
 #include <gtest/gtest.h>
 
 #include <tiller/odometry_t.hpp>
@@ -26,7 +27,7 @@ void put(LogWriter& w, const std::string& ch, const Msg& m, TimeUs t) {
 // A boat that starts at (0, 2) and drives straight north toward the one waypoint (10, 2) at
 // 1 m/s for 12 s; if `complete` it gets there (the follower says complete at t = 10 s), else
 // it stops halfway.
-std::string write_log(const std::string& name, bool complete) {
+std::string write_log(const std::string& name, bool complete, double estimate_east = -1) {
   const std::string path = std::string(::testing::TempDir()) + name;
   LogWriter w(path);
   path_t p{};
@@ -43,6 +44,10 @@ std::string write_log(const std::string& name, bool complete) {
     o.position[0] = std::min(complete ? 10.0 : 5.0, 0.1 * k);
     o.position[1] = 2;
     put(w, "TILLER_GROUND_TRUTH", o, t + 1);
+    if (estimate_east >= 0) {  // tiller-nav's estimate, beside the line
+      o.position[1] = estimate_east;
+      put(w, "TILLER_ODOMETRY", o, t + 1);
+    }
     path_progress_t pr{};
     pr.utime = t;
     pr.path_id = 3;
@@ -79,6 +84,27 @@ TEST(ScoreTool, OnePointPathIsScoredFromWhereTheBoatWas) {
   EXPECT_NE(out.find("VRX wayfinding      0.000 (mean over 1 waypoints, the start point left out)"),
             std::string::npos)
       << out;
+}
+
+// On estimated state (an odometry 0.3 m east of the truth all along): the path is scored on
+// the truth and again on the estimate, each from where it was. The truth runs on its line; the
+// estimate's line runs from (0, 2.3) to the goal (10, 2), and the estimate, going straight north,
+// is 0.3 n / sqrt(100.09) m off it at north n: RMS over n = 0, 0.1, ..., 10 of
+// 0.3 sqrt(33.5 / 100.09) = 0.174 m, max 0.29987 m at the end.
+TEST(ScoreTool, OnEstimatedStateTheEstimateIsScoredToo) {
+  const auto out = run_score(write_log("estimated.lcmlog", true, 2.3));
+  EXPECT_NE(out.find("estimation error    position RMS 0.300 m (max 0.300 m)"), std::string::npos)
+      << out;
+  EXPECT_NE(out.find("cross-track RMS     0.000 m (max 0.000 m)"), std::string::npos) << out;
+  EXPECT_NE(out.find("on the estimate     cross-track RMS 0.174 m (max 0.300 m), waypoints "
+                     "reached 2, missed 0, time to complete 10.0 s (TILLER_ODOMETRY, 121 "
+                     "samples)"),
+            std::string::npos)
+      << out;
+  // On the truth alone neither line.
+  const auto truth = run_score(write_log("truth_only.lcmlog", true));
+  EXPECT_EQ(truth.find("on the estimate"), std::string::npos) << truth;
+  EXPECT_EQ(truth.find("estimation error"), std::string::npos) << truth;
 }
 
 TEST(ScoreTool, NotCompletedSaysSo) {

@@ -94,6 +94,14 @@ TEST(GnssGpsd, FixesFromARealGpsdCarryTheNmeaValues) {
   EXPECT_EQ((f.gnss_utime / 1'000'000 - 1'796'126'400) / 60, 0) << f.gnss_utime;
   EXPECT_EQ(f.gnss_utime % 1'000'000, 0);
   EXPECT_EQ(node.counter_value("fixes"), static_cast<std::int64_t>(out.fixes.size()));
+  // One message per epoch (the file has 5, 1 s apart), in time order: a report that is not a TPV
+  // (SKY, GST) is not published as the last fix again.
+  TimeUs last = 0;
+  for (const auto& x : out.fixes) {
+    if (x.gnss_utime == 0) continue;  // gpsd's first reports, before it has read a time
+    EXPECT_GT(x.gnss_utime, last) << "fix of epoch " << x.gnss_utime << " published again";
+    last = x.gnss_utime;
+  }
 }
 
 TEST(GnssGpsd, NoGpsdIsFaultNamingHostAndPort) {
