@@ -127,12 +127,14 @@ TEST(RunTool, EstimatedStateMeetsTheEstimationTargetsOnTheShippedMissions) {
   }
 }
 
-// A 20 s GNSS outage from 20 s into default.yaml: the filter dead-reckons on the gyro and the
-// accelerometer (position and velocity covariance growing, DEAD_RECKONING set), its odometry
-// stays valid (velocity 1-sigma under limits.velocity_std_mps), so the boat carries on: no
-// neutral, no disarm, the speed setpoints within the follower's limit. When the fixes return the
-// estimate converges again and the mission completes at its goal. Before the aided INS the
-// velocity went invalid 13 s in, the mixer disarmed and the boat stayed stopped.
+// A 20 s GNSS outage from 20 s into default.yaml (the shipped seed 1): the filter dead-reckons on
+// the gyro and the accelerometer (position and velocity covariance growing, DEAD_RECKONING set).
+// With the honest covariance of config/nav/usv_sim.yaml (process.accel_bias 1e-4; 3e-5 before,
+// which under-stated the drift about twofold and kept the odometry valid throughout) the velocity
+// 1-sigma passes limits.velocity_std_mps at the end of the outage: the odometry is invalid
+// briefly (measured 0.2 s), the controllers give neutral meanwhile (no disarm), and when the
+// fixes return the estimate converges and the mission completes at its goal. Before the aided
+// INS the velocity went invalid 13 s in, the mixer disarmed and the boat stayed stopped.
 TEST(RunTool, EstimatedStateCarriesOnThroughA20sGnssOutageAndRecovers) {
   RunSpec s = default_spec();
   s.sim_args = {"--odometry", "estimated", "--gnss-outage", "20:20"};
@@ -140,22 +142,22 @@ TEST(RunTool, EstimatedStateCarriesOnThroughA20sGnssOutageAndRecovers) {
   ASSERT_TRUE(o.completed);
   EXPECT_GE(o.dead_reckoning_s, 18.0);  // 20 s less gnss.timeout_s (1 s)
   EXPECT_LE(o.dead_reckoning_s, 20.0);
-  EXPECT_DOUBLE_EQ(o.odometry_invalid_s, 0.0);
+  EXPECT_LE(o.odometry_invalid_s, 2.0);  // s: at the end of the outage only (measured 0.2)
   EXPECT_EQ(o.disarm_requests, 0u);
+  EXPECT_EQ(o.invalid_thrust_max, 0.0);
   EXPECT_LE(o.max_setpoint_speed, o.max_speed + 1e-9);
-  EXPECT_GT(o.scores.position_error_max, 1.0);   // m: dead reckoning drifts (measured 8.5)
+  EXPECT_GT(o.scores.position_error_max, 1.0);   // m: dead reckoning drifts (measured 7.7)
   EXPECT_LT(o.scores.position_error_max, 10.0);  // within limits.position_std_m
-  EXPECT_LT(o.scores.path_scores.final_position_error, 1.5);  // m: recovered (measured 0.45)
+  EXPECT_LT(o.scores.path_scores.final_position_error, 1.5);  // m: recovered (measured 0.75)
 }
 
-// The same outage with an honest filter covariance (process accel_bias 1e-4: position NEES
-// about 1.4): the velocity 1-sigma passes limits.velocity_std_mps late in the outage on most
-// seeds, so tiller-nav flags the odometry invalid for a few seconds. The controllers then give
-// a deliberate neutral (a valid zero wrench: armed, gate ACTIVE, no disarm) while the estimator
-// says invalid, and the mission resumes by itself when the odometry is valid again. Before, the
-// controllers' wrench went invalid, the mixer's gate INPUT_LOST disarmed 3 s later (39.74 s on
-// seed 0, 0.38 s before the odometry was valid again) and the boat stayed stopped: 5 of these 8
-// seeds did not complete.
+// The same outage on seeds 0-7: the velocity 1-sigma passes limits.velocity_std_mps late in the
+// outage on most seeds, so tiller-nav flags the odometry invalid for a few seconds. The
+// controllers then give a deliberate neutral (a valid zero wrench: armed, gate ACTIVE, no
+// disarm) while the estimator says invalid, and the mission resumes by itself when the odometry
+// is valid again. Before, the controllers' wrench went invalid, the mixer's gate INPUT_LOST
+// disarmed 3 s later (39.74 s on seed 0, 0.38 s before the odometry was valid again) and the
+// boat stayed stopped: 5 of these 8 seeds did not complete.
 TEST(RunTool, AnOutagePastTheEstimatorsLimitGivesNeutralAndTheMissionResumes) {
   int went_invalid = 0;
   for (int seed = 0; seed < 8; ++seed) {
@@ -163,17 +165,16 @@ TEST(RunTool, AnOutagePastTheEstimatorsLimitGivesNeutralAndTheMissionResumes) {
     RunSpec s = default_spec();
     s.sim_args = {"--odometry", "estimated", "--gnss-outage",
                   "20:20",      "--seed",    std::to_string(seed)};
-    s.settings = {parse_setting("nav.process.accel_bias=1.0e-4")};
     const auto o = run(s);
     if (o.odometry_invalid_s > 0.5) ++went_invalid;
-    EXPECT_LE(o.odometry_invalid_s, 8.0);  // s: only late in the 20 s outage
+    EXPECT_LE(o.odometry_invalid_s, 8.0);  // s: only late in the 20 s outage (measured <= 4.4)
     EXPECT_EQ(o.disarm_requests, 0u);
     EXPECT_EQ(o.invalid_thrust_max, 0.0);  // neutral while invalid (after the 0.5 s timeout)
     ASSERT_TRUE(o.completed);
     EXPECT_LE(o.max_setpoint_speed, o.max_speed + 1e-9);
     EXPECT_LT(o.scores.path_scores.final_position_error, 1.5);  // m: resumed and reached the goal
   }
-  EXPECT_GE(went_invalid, 4);  // the case this test is about happens (measured: 5 of 8 seeds)
+  EXPECT_GE(went_invalid, 4);  // the case this test is about happens (measured: 7 of 8 seeds)
 }
 
 TEST(RunTool, TheMissionStartIsWhereTheBoatStarts) {
