@@ -26,6 +26,10 @@ RunScores score_events(const std::vector<Event>& events, const std::vector<Goal>
   odometry_t o;
   path_progress_t pr;
   std::vector<Pose> estimate;  // TILLER_ODOMETRY when the pose is the truth
+  // The same two at their messages' own time (utime: the instant each state is of), for the
+  // estimation error: the logger's receive times differ between channels by the transport's
+  // jitter, which the interpolation would turn into an error (1 mm at 1.5 m/s in a live run).
+  std::vector<Pose> truth_at, estimate_at;
   for (const auto& e : events) {
     const double t = to_seconds(e.time);
     if (e.channel == "TILLER_PATH" && start < 0) {
@@ -37,9 +41,14 @@ RunScores score_events(const std::vector<Event>& events, const std::vector<Goal>
           path.push_back({w.position[0], w.position[1], w.has_heading != 0, w.heading});
       }
     } else if (e.channel == r.pose_channel) {
-      if (decode(e, o)) r.poses.push_back({t, o.position[0], o.position[1], o.orientation[2]});
+      if (!decode(e, o)) continue;
+      r.poses.push_back({t, o.position[0], o.position[1], o.orientation[2]});
+      if (have_truth)
+        truth_at.push_back({to_seconds(o.utime), o.position[0], o.position[1], o.orientation[2]});
     } else if (have_truth && e.channel == "TILLER_ODOMETRY") {
-      if (decode(e, o)) estimate.push_back({t, o.position[0], o.position[1], o.orientation[2]});
+      if (!decode(e, o)) continue;
+      estimate.push_back({t, o.position[0], o.position[1], o.orientation[2]});
+      estimate_at.push_back({to_seconds(o.utime), o.position[0], o.position[1], o.orientation[2]});
     } else if (e.channel == "TILLER_PATH_PROGRESS" && !complete_at) {
       if (decode(e, pr) && pr.complete && pr.path_id == path_id) complete_at = t;
     }
@@ -53,7 +62,7 @@ RunScores score_events(const std::vector<Event>& events, const std::vector<Goal>
   r.path_scores = score_path(r.poses, r.path, start, complete_at);
   r.samples = r.poses.size();
   if (have_truth && !estimate.empty()) {
-    score_estimation(estimate, r.poses, r);
+    score_estimation(estimate_at, truth_at, r);
     // The follower followed the estimate: a one-point path from where the estimate was.
     r.estimate_path = path_as_followed(path, estimate, start);
     r.estimate_path_scores = score_path(estimate, r.estimate_path, start, complete_at);
