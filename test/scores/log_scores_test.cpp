@@ -26,17 +26,23 @@ odometry_t pose(double north, double east, TimeUs utime) {
   return o;
 }
 
+// TILLER_PATH at t = 0, path_id `id`: (0, 0) -> (north, 0) with 2 points, the goal (north, 0)
+// alone with 1.
+Event path_event(double north, int points, std::int64_t id) {
+  path_t p{};
+  p.path_id = id;
+  p.n_waypoints = points;
+  p.waypoints.resize(points);
+  p.waypoints[points - 1].position[0] = north;
+  return encode("TILLER_PATH", 0, p);
+}
+
 // Path (0, 0) -> (10, 0), given at t = 0. At t = k s (k = 0..10) the truth is at (k, 0.5), the
 // last one at (10, 1.3); the estimate at (k, 0.1). With `complete` the follower says complete
 // at t = 10 s.
 std::vector<Event> run_on_estimate(bool complete) {
   std::vector<Event> ev;
-  path_t p{};
-  p.path_id = 7;
-  p.n_waypoints = 2;
-  p.waypoints.resize(2);
-  p.waypoints[1].position[0] = 10;
-  ev.push_back(encode("TILLER_PATH", 0, p));
+  ev.push_back(path_event(10, 2, 7));
   for (int k = 0; k <= 10; ++k) {
     const TimeUs t = k * kUsPerSecond;
     ev.push_back(encode("TILLER_GROUND_TRUTH", t, pose(k, k < 10 ? 0.5 : 1.3, t)));
@@ -96,12 +102,7 @@ TEST(LogScores, WithoutACompletionEachPoseCompletesWhenItReachesTheGoal) {
 // the goal's line of north, on either side, and go straight to the goal (10, 0).
 TEST(LogScores, AOnePointPathStartsWhereEachPoseWas) {
   std::vector<Event> ev;
-  path_t p{};
-  p.path_id = 1;
-  p.n_waypoints = 1;
-  p.waypoints.resize(1);
-  p.waypoints[0].position[0] = 10;
-  ev.push_back(encode("TILLER_PATH", 0, p));
+  ev.push_back(path_event(10, 1, 1));
   for (int k = 0; k <= 10; ++k) {
     const TimeUs t = k * kUsPerSecond;
     ev.push_back(encode("TILLER_GROUND_TRUTH", t, pose(k, 0.4 * (10 - k) / 10, t)));
@@ -123,11 +124,7 @@ TEST(LogScores, AOnePointPathStartsWhereEachPoseWas) {
 // error (tiller-run's truth runs: 4e-19 m at most).
 TEST(LogScores, TruthOdometryIsNoEstimate) {
   std::vector<Event> ev;
-  path_t p{};
-  p.n_waypoints = 2;
-  p.waypoints.resize(2);
-  p.waypoints[1].position[0] = 1;
-  ev.push_back(encode("TILLER_PATH", 0, p));
+  ev.push_back(path_event(1, 2, 0));
   for (int k = 0; k <= 10; ++k) {
     ev.push_back(encode("TILLER_GROUND_TRUTH", k * 100'000, pose(0.1 * k, 0.2, k * 100'000)));
     if (k < 10)
@@ -154,11 +151,7 @@ TEST(LogScores, TruthOdometryIsNoEstimate) {
 // 1.5 m/s gave a 1.35 mm "estimation error" and the estimation lines, which broke a test's awk.)
 TEST(LogScores, TruthOdometryReceivedLaterIsNoEstimate) {
   std::vector<Event> ev;
-  path_t p{};
-  p.n_waypoints = 2;
-  p.waypoints.resize(2);
-  p.waypoints[1].position[0] = 10;
-  ev.push_back(encode("TILLER_PATH", 0, p));
+  ev.push_back(path_event(10, 2, 0));
   for (int k = 0; k <= 100; ++k) {
     const TimeUs t = k * 50'000;
     const odometry_t o = pose(1.5 * to_seconds(t), 0.2, t);
