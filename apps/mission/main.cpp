@@ -3,6 +3,8 @@
 // the follower does not restart); sends ONE arm request, and ONE operator START
 // (TILLER_MISSION_COMMAND) once the vehicle is armed (docs/safety.md). --repeat-s 0 publishes
 // once and exits after the START (or after --start-wait-s without arming).
+// --start-std-m M (and --start-settle-s S) waits, publishing nothing, until TILLER_ODOMETRY is
+// valid with its horizontal position 1-sigma <= M m, held for S s (mission/start_gate.hpp).
 // --command pause|resume|abort|release sends that operator command (and, for release, a disarm
 // request) and exits. It has no config file (--config is refused): the mission is --mission FILE.
 #include <tiller/arm_request_t.hpp>
@@ -61,6 +63,9 @@ int main(int argc, char** argv) {
         {"repeat-s", "S", "repeat period, s >= 0; 0 = publish once and exit", "1"},
         {"start-wait-s", "S", "with --repeat-s 0: how long to wait for arming, s", "3"},
         {"no-arm", "", "do not send the arm request (START still waits for arming)", ""},
+        {"start-std-m", "M",
+         "wait (publish nothing) until the estimate is valid with position 1-sigma <= M m", ""},
+        {"start-settle-s", "S", "... and has been for S s (default 0; alone: M = 0.5)", ""},
         {"command", "NAME", "send pause, resume, abort or release and exit", ""}},
        false});  // no config file: the mission is --mission FILE
 
@@ -106,6 +111,16 @@ int main(int argc, char** argv) {
         args.get("path-id").empty()
             ? -1
             : app::integer_option(args, "path-id", 0, INT64_MAX, "a whole number >= 0 (int64)");
+    mission::StartGateParams gate;
+    if (!args.get("start-std-m").empty() || !args.get("start-settle-s").empty()) {
+      gate.enabled = true;
+      if (!args.get("start-std-m").empty())
+        gate.max_position_std_m = app::number_option(args, "start-std-m", 1e-3, 1e3,
+                                                     "a number of metres in [0.001, 1000]");
+      if (!args.get("start-settle-s").empty())
+        gate.settle_s =
+            app::number_option(args, "start-settle-s", 0, 3600, "a number of seconds in [0, 3600]");
+    }
     const auto m = mission::load_mission_file(args.get("mission"));
     if (id < 0) id = wall_time_us();
     std::cout << "tiller-mission: " << m.name << ": " << m.waypoints.size()
@@ -113,13 +128,19 @@ int main(int argc, char** argv) {
     LiveExecutor ex(args.lcm_url, args.auth);
     // Once: the first tick publishes everything; the period is long enough not to repeat.
     const TimeUs period = repeat > 0 ? from_seconds(repeat) : from_seconds(wait + 3600);
-    mission::MissionNode node(m, id, period, !args.flag("no-arm"));
+    if (gate.enabled)
+      std::cout << "tiller-mission: waiting for the estimate: position 1-sigma <= "
+                << gate.max_position_std_m << " m for " << gate.settle_s << " s\n";
+    mission::MissionNode node(m, id, period, !args.flag("no-arm"), gate);
     ex.add(node);
     if (repeat > 0) return ex.run();
     StopWhenStarted stopper(node, ex, wall_time_us() + from_seconds(wait));
     ex.add(stopper);
     const int rc = ex.run();
-    if (!node.started())
+    if (!node.started() && node.began_at() < 0)
+      std::cerr << "tiller-mission: the estimate was not ready within " << wait
+                << " s: nothing sent\n";
+    else if (!node.started())
       std::cerr << "tiller-mission: not armed within " << wait << " s: no START sent\n";
     return rc;
   });

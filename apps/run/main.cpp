@@ -46,6 +46,9 @@ app::Spec spec() {
        {"hold-s", "S", "station keeping after completion, s >= 0 (default: the mission's)", ""},
        {"time-limit-s", "S", "simulated time limit, s > 0 (default: the mission's)", ""},
        {"settle-s", "S", "the simulator (and tiller-nav) alone for S s before the mission", ""},
+       {"start-std-m", "M",
+        "start gate: the mission waits for a valid estimate with position 1-sigma <= M m", ""},
+       {"start-settle-s", "S", "start gate: ... held for S s (default 0; alone: M = 0.5)", ""},
        {"log", "FILE", "write the run's LCM log here (and FILE's .replay.yaml)", ""},
        {"sweep", "AXIS", "NAME=FROM:TO:COUNT or NAME=V1,V2,... (see docs/tuning.md)", ""},
        {"sweep2", "AXIS", "a second axis: every combination of the two", ""},
@@ -97,6 +100,15 @@ runtool::RunSpec run_spec(const app::Args& a) {
         app::number_option(a, "time-limit-s", 1e-3, 1e6, "a number of seconds in [0.001, 1e6]");
   if (!a.get("settle-s").empty())
     s.settle_s = app::number_option(a, "settle-s", 0, 1e6, "a number of seconds in [0, 1e6]");
+  if (!a.get("start-std-m").empty() || !a.get("start-settle-s").empty()) {
+    s.start_gate.enabled = true;
+    if (!a.get("start-std-m").empty())
+      s.start_gate.max_position_std_m =
+          app::number_option(a, "start-std-m", 1e-3, 1e3, "a number of metres in [0.001, 1000]");
+    if (!a.get("start-settle-s").empty())
+      s.start_gate.settle_s =
+          app::number_option(a, "start-settle-s", 0, 3600, "a number of seconds in [0, 3600]");
+  }
   s.log_file = a.get("log");
   return s;
 }
@@ -119,6 +131,11 @@ int single(const runtool::RunSpec& s) {
   std::printf("tiller-run: %s; %.1f s simulated in %.3f s wall (%.0fx real time), %zu messages\n",
               o.completed ? "mission complete" : "mission NOT complete", o.sim_s, wall,
               o.sim_s / std::max(wall, 1e-9), o.messages);
+  if (s.start_gate.enabled)
+    std::printf("tiller-run: start gate (position 1-sigma <= %.2f m for %.1f s): %s %.1f s\n",
+                s.start_gate.max_position_std_m, s.start_gate.settle_s,
+                o.started_at >= 0 ? "the mission started at" : "never opened in",
+                o.started_at >= 0 ? o.started_at : o.sim_s);
   std::printf("\n");
   scores::print_scores(o.scores, stdout);
   if (o.estimated) {

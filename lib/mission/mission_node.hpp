@@ -6,32 +6,55 @@
 //     repeated, so a vehicle disarmed by a timeout or a restart stays disarmed;
 //   * one START on TILLER_MISSION_COMMAND (command_id = path_id) when TILLER_ARM_STATE first says
 //     armed: the mixer's safety gate lets the autonomy move the vehicle only after it.
+// With a start gate (mission/start_gate.hpp, `gate.enabled`) it subscribes to TILLER_ODOMETRY and
+// publishes nothing, not even the path or the arm request, until the gate first opens (the
+// estimate valid, certain to gate.max_position_std_m and settled for gate.settle_s); the
+// heartbeat says "waiting for the estimate: ..." meanwhile; it ticks every 100 ms (or the repeat
+// period if shorter) to watch the gate, and repeats the path every repeat period after its start.
+// Once started it does not wait again: a later bad estimate is the controllers' and the failsafe's
+// to act on (docs/safety.md).
 #pragma once
 
 #include <tiller/arm_state_t.hpp>
+#include <tiller/odometry_t.hpp>
 #include <tiller/path_t.hpp>
 
+#include <string>
+
 #include "mission/mission.hpp"
+#include "mission/start_gate.hpp"
 #include "runtime/node.hpp"
 
 namespace tiller::mission {
 
 class MissionNode : public Node {
  public:
-  MissionNode(const Mission& m, std::int64_t path_id, TimeUs repeat_period_us, bool arm = true);
+  MissionNode(const Mission& m, std::int64_t path_id, TimeUs repeat_period_us, bool arm = true,
+              const StartGateParams& gate = {});
   void on_tick(TimeUs now) override;
   int sent() const { return sent_; }
   bool started() const { return start_sent_; }
+  // The time of the first tick that published the path (-1 while waiting for the estimate).
+  TimeUs began_at() const { return began_at_; }
 
  private:
   void on_arm_state(const arm_state_t& m, TimeUs now);
+  void on_odometry(const odometry_t& m, TimeUs now);
 
+  static constexpr TimeUs kGatePollUs = 100'000;  // gated: the tick that watches the gate
+
+  TimeUs repeat_us_;
+  TimeUs last_sent_ = 0;
   path_t path_;
   bool translation_;
   bool arm_;
   bool arm_sent_ = false;
   bool start_sent_ = false;
   int sent_ = 0;
+  std::string name_;
+  StartGate gate_;
+  TimeUs began_at_ = -1;
+  TimeUs status_at_ = -1;  // when the "waiting" status was last written
 };
 
 }  // namespace tiller::mission

@@ -156,7 +156,7 @@ RunOutcome run(const RunSpec& spec) {
   out.max_speed = fparams.follower.max_speed;
   guidance::PathFollowerNode follower(fparams);
 
-  mission::MissionNode mnode(m, 1, kUsPerSecond);
+  mission::MissionNode mnode(m, 1, kUsPerSecond, true, spec.start_gate);
 
   // The order of the closed-loop harness (test/autonomy/harness.cpp): plant, then autonomy.
   LockstepExecutor ex(0);
@@ -225,20 +225,22 @@ RunOutcome run(const RunSpec& spec) {
   });
 
   const double hold = spec.hold_s >= 0 ? spec.hold_s : m.station_keep_s;
-  const TimeUs limit =
-      settle + from_seconds(spec.time_limit_s >= 0 ? spec.time_limit_s : m.time_limit_s);
+  const TimeUs limit = from_seconds(spec.time_limit_s >= 0 ? spec.time_limit_s : m.time_limit_s);
+  const TimeUs wait_limit = settle + from_seconds(std::max(spec.start_wait_s, 0.0));
   TimeUs t = 0;
   if (settle > 0) {
     ex.run_until(settle);
     add_autonomy();
     t = settle;
   }
-  while (t < limit) {
+  // The time limit counts from the mission's start (the start gate opening, or at once).
+  while (mnode.began_at() < 0 ? t < wait_limit : t < mnode.began_at() + limit) {
     t += kUsPerSecond;
     ex.run_until(t);
     if (out.completed && to_seconds(t) >= out.completed_at + hold) break;
   }
   out.sim_s = to_seconds(t);
+  out.started_at = mnode.began_at() >= 0 ? to_seconds(mnode.began_at()) : -1.0;
   std::vector<scores::Goal> path;
   for (const auto& w : m.waypoints) path.push_back({w.north, w.east, w.has_heading, w.heading});
   out.scores = scores::score_events(scored, path);

@@ -21,6 +21,7 @@
 #include <string>
 #include <vector>
 
+#include "mission/start_gate.hpp"
 #include "scores/log_scores.hpp"
 
 namespace tiller::runtool {
@@ -54,6 +55,12 @@ struct RunSpec {
   // ESC, mixer, mission or controllers (no thrust), as an operator waits for the estimate to
   // settle before starting; the time limit counts from the start. 0: all start together.
   double settle_s = 0;
+  // tiller-mission's start gate (mission/start_gate.hpp; tiller-run --start-std-m,
+  // --start-settle-s): the mission waits for a valid, certain, settled estimate before it
+  // publishes its path; the time limit counts from then, and the run gives up waiting at
+  // start_wait_s.
+  mission::StartGateParams start_gate;
+  double start_wait_s = 300;
   std::string log_file;  // empty: no log
 };
 
@@ -75,6 +82,7 @@ struct RunOutcome {
   std::size_t messages = 0;       // delivered (and logged)
   double max_setpoint_speed = 0;  // m/s: largest |velocity| of an active TILLER_VELOCITY_SETPOINT
   double max_speed = 0;           // m/s: the follower's max_speed (guidance config)
+  double started_at = -1;         // s: when tiller-mission first published the path (-1: never)
   double start_north = 0, start_east = 0, start_heading = 0;  // where the vehicle started
   bool estimated = false;                                     // flown on tiller-nav's odometry
   // On estimated state, from TILLER_ODOMETRY's valid bits (s of simulated time, by sample):

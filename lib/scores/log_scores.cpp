@@ -108,8 +108,10 @@ void score_estimation(const std::vector<Pose>& estimate, const std::vector<Pose>
 void print_scores(const RunScores& r, std::FILE* out) {
   const auto& s = r.path_scores;
   std::fprintf(out, "pose from           %s (%zu samples)\n", r.pose_channel.c_str(), r.samples);
-  std::fprintf(out, "waypoints           %zu (reached in order %d, missed %d)\n", r.path.size(),
-               s.waypoints_reached, s.waypoints_missed);
+  std::fprintf(
+      out, "waypoints           %zu (reached in order %d, missed %d)%s\n", r.path.size(),
+      s.waypoints_reached, s.waypoints_missed,
+      s.start_passed ? ", the start point passed: the vehicle began beside or past it" : "");
   if (s.time_to_complete >= 0)
     std::fprintf(out, "time to complete    %.1f s\n", s.time_to_complete);
   else

@@ -34,8 +34,21 @@ PathScores score_path(const std::vector<Pose>& run, const std::vector<Goal>& pat
                       std::optional<double> complete_at, double visit_radius) {
   PathScores s;
   if (path.empty() || run.empty()) return s;
-  // Waypoints reached in order.
-  std::size_t next = 0;
+  const Pose* first = nullptr;  // the pose at the start
+  for (const auto& p : run) {
+    if (p.t >= start) {
+      first = &p;
+      break;
+    }
+  }
+  // Waypoints reached in order; a start point the vehicle began beside or past along the first
+  // segment is passed, as the follower passes it (see scores.hpp).
+  if (path.size() > 1 && first != nullptr) {
+    const double dn = first->north - path[0].north, de = first->east - path[0].east;
+    const double sn = path[1].north - path[0].north, se = path[1].east - path[0].east;
+    s.start_passed = std::hypot(dn, de) >= visit_radius && sn * dn + se * de >= 0;
+  }
+  std::size_t next = s.start_passed ? 1 : 0;
   double reached_last_at = -1;
   std::vector<double> best_e(path.size(), std::numeric_limits<double>::infinity());
   for (const auto& p : run) {
@@ -72,16 +85,9 @@ PathScores score_path(const std::vector<Pose>& run, const std::vector<Goal>& pat
   s.final_position_error = std::hypot(run.back().north - g.north, run.back().east - g.east);
   s.final_heading_error = g.has_heading ? std::abs(angle_diff(g.heading, run.back().heading)) : -1;
   // Wayfinding: the task's waypoints, without the start (see scores.hpp).
-  const Pose* first = nullptr;
-  for (const auto& p : run) {
-    if (p.t >= start) {
-      first = &p;
-      break;
-    }
-  }
-  s.start_excluded =
-      path.size() > 1 && first != nullptr &&
-      std::hypot(first->north - path[0].north, first->east - path[0].east) < visit_radius;
+  s.start_excluded = path.size() > 1 && first != nullptr &&
+                     (s.start_passed || std::hypot(first->north - path[0].north,
+                                                   first->east - path[0].east) < visit_radius);
   double w = 0;
   for (std::size_t k = s.start_excluded ? 1 : 0; k < best_e.size(); ++k) {
     w += best_e[k];

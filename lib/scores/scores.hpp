@@ -11,6 +11,12 @@
 //     a first point within visit_radius of the pose at `start` (a path that begins where the
 //     boat is, as every mission in config/missions does) is left out of the mean; it would score
 //     about 0 and bias the mean low.
+//   * A vehicle that begins away from the path's first point (a real vehicle starts where it
+//     is; in a current it drifts while the mission waits for the estimate: mission/
+//     start_gate.hpp) but beside or past it along the first segment ((p1 - p0).(x - p0) >= 0,
+//     farther than visit_radius) is not steered back to it by the follower, which joins the
+//     first segment where it is: that start point counts as reached (start_passed) and is left
+//     out of the wayfinding mean. Behind it, the first point is scored as any other.
 // A one-point path is followed from where the vehicle is (guidance/path_follower.hpp): score it
 // as followed with path_as_followed().
 #pragma once
@@ -41,6 +47,7 @@ struct PathScores {
   double vrx_wayfinding = 0;
   int wayfinding_points = 0;    // waypoints in the wayfinding mean
   bool start_excluded = false;  // the first point was where the vehicle started: not scored
+  bool start_passed = false;    // ... or the vehicle began beside or past it: counted reached
 };
 
 // The path as the follower follows it: a one-point path gets the vehicle's position at `start`

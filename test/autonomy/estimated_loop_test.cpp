@@ -19,6 +19,7 @@
 #include <algorithm>
 #include <cstdio>
 #include <string>
+#include <utility>
 #include <vector>
 
 #include "core/angles.hpp"
@@ -49,10 +50,10 @@ struct Gap {
   int truth_missed = 0;        // target 0
 };
 const Gap kGaps[] = {
-    {"default", 2.72, 1.58, 0, 0},
-    {"long_course", 3.09, 1.93, 0, 2},
-    {"vrx_wayfinding", 2.53, 1.69, 0, 0},
-    {"station_keeping", 5.05, 6.08, 2.12, 0},
+    {"default", 0, 0, 0, 0},
+    {"long_course", 2.36, 0, 0, 2},
+    {"vrx_wayfinding", 0, 0, 0, 3},
+    {"station_keeping", 0, 0, 0, 0},
 };
 
 struct Water {
@@ -76,10 +77,28 @@ RunSpec spec(const std::string& mission, const Water& w, double settle_s) {
   return s;
 }
 
+// The start gate the launch files on an estimate use (tiller-mission --start-std-m 0.3): the
+// mission waits for tiller-nav's horizontal position 1-sigma <= 0.3 m (about 12 s of 5 Hz fixes
+// from the first; the filter's steady state is 0.23 m).
+constexpr double kStartStdM = 0.3;
+
+// One pair: on the estimate with the start gate, and on the truth with the vehicle left alone
+// (no thrust) for as long as the gate kept the estimated run waiting, so both start from the same
+// drift.
+std::pair<RunOutcome, RunOutcome> fly_pair(const std::string& mission, const Water& w) {
+  RunSpec es = spec(mission, w, 0);
+  es.sim_args.insert(es.sim_args.end(), {"--odometry", "estimated"});
+  es.start_gate.enabled = true;
+  es.start_gate.max_position_std_m = kStartStdM;
+  const RunOutcome e = run(es);
+  const RunOutcome t = run(spec(mission, w, std::max(e.started_at, 0.0)));
+  return {t, e};
+}
+
 // The numbers compared, printed as one line.
 struct Compared {
   double time_ratio, est_xte_ratio, true_xte_excess;
-  int truth_missed, est_missed;
+  int truth_missed, est_missed;  // beyond the truth run's
 };
 
 Compared compare(const std::string& mission, const std::string& water, const RunOutcome& t,
@@ -88,9 +107,12 @@ Compared compare(const std::string& mission, const std::string& water, const Run
   const auto& ep = e.scores.path_scores;
   const auto& on = *e.scores.estimate_path_scores;
   const double est = e.scores.position_error_rms;
+  // Waypoints missed beyond the truth run's (both start from the same drift; the in-order count
+  // of a drifted start can miss some on the truth too).
   const Compared c{
       ep.time_to_complete / tp.time_to_complete, on.cross_track_rms / tp.cross_track_rms,
-      ep.cross_track_rms / (tp.cross_track_rms + est), ep.waypoints_missed, on.waypoints_missed};
+      ep.cross_track_rms / (tp.cross_track_rms + est), ep.waypoints_missed - tp.waypoints_missed,
+      on.waypoints_missed - tp.waypoints_missed};
   const bool met = c.time_ratio <= 1.5 && c.est_xte_ratio <= 1.5 && c.true_xte_excess <= 1 &&
                    c.truth_missed == 0 && c.est_missed == 0 && est <= 0.5 &&
                    e.scores.heading_error_rms <= deg_to_rad(1.0);
@@ -116,9 +138,9 @@ void expect_common_targets(const RunOutcome& t, const RunOutcome& e) {
   EXPECT_GT(e.scores.estimation_samples, 1000u);
   EXPECT_LE(e.scores.position_error_rms, 0.5);
   EXPECT_LE(e.scores.heading_error_rms, deg_to_rad(1.0));
-  EXPECT_EQ(e.scores.estimate_path_scores->waypoints_missed, 0);
+  EXPECT_LE(e.scores.estimate_path_scores->waypoints_missed, t.scores.path_scores.waypoints_missed);
   EXPECT_EQ(e.scores.path_scores.waypoints_missed + e.scores.path_scores.waypoints_reached,
-            t.scores.path_scores.waypoints_reached);
+            t.scores.path_scores.waypoints_missed + t.scores.path_scores.waypoints_reached);
   EXPECT_LE(e.scores.path_scores.time_to_complete, 1.5 * t.scores.path_scores.time_to_complete);
   EXPECT_DOUBLE_EQ(e.dead_reckoning_s, 0.0);
   EXPECT_DOUBLE_EQ(e.odometry_invalid_s, 0.0);
@@ -130,12 +152,15 @@ TEST(EstimatedLoop, ShippedMissionsInStillWaterAndInACurrent) {
     double worst_current_ratio = 0;
     for (const Water& w : waters()) {
       SCOPED_TRACE(std::string(g.mission) + ", " + w.name);
-      RunSpec s = spec(g.mission, w, 0);
-      const auto t = run(s);
-      s.sim_args.insert(s.sim_args.end(), {"--odometry", "estimated"});
-      const auto e = run(s);
+      const auto [t, e] = fly_pair(g.mission, w);
       expect_common_targets(t, e);
       if (HasFatalFailure()) return;
+      // The gate opened once the filter had converged: about 12 s of fixes, the same in every
+      // water (the estimate's covariance does not depend on the current).
+      EXPECT_GE(e.started_at, 8.0);
+      EXPECT_LE(e.started_at, 16.0);
+      EXPECT_NEAR(e.scores.start, e.started_at, 0.05);  // the path came with the start
+      EXPECT_NEAR(t.scores.start, e.started_at, 1.05);  // the truth run left alone as long
       const Compared c = compare(g.mission, w.name, t, e);
       const bool still = w.name == "still";
       const double ratio = still ? g.est_xte_ratio_still : g.est_xte_ratio_current;

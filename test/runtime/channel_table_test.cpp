@@ -157,6 +157,9 @@ std::vector<Program> programs() {
                                  load_stick_script_file(kRoot + "/config/pilot/rov_demo.yaml")));
   const auto m = mission::load_mission_file(kRoot + "/config/missions/default.yaml");
   add("tiller-mission", std::make_unique<mission::MissionNode>(m, 1, kUsPerSecond));
+  mission::StartGateParams gate;  // --start-std-m: it listens to the odometry too
+  gate.enabled = true;
+  add("tiller-mission", std::make_unique<mission::MissionNode>(m, 1, kUsPerSecond, true, gate));
   add("tiller-cockpit", std::make_unique<cockpit::CockpitNode>(
                             cockpit::load_cockpit_file(kRoot + "/config/cockpit/usv_sim.yaml").node,
                             "0123456789abcdef", [](const std::string&, const std::string&) {

@@ -268,6 +268,13 @@ std::vector<NodeCase> node_cases() {
                      return std::make_unique<mission::MissionNode>(mission::load_mission_file(f), 1,
                                                                    kUsPerSecond);
                    }});
+    out.push_back({"MissionNode", "tiller-mission --start-std-m 0.3 " + rel(f), [f](InputContext&) {
+                     mission::StartGateParams gate;  // the start gate: it takes the odometry too
+                     gate.enabled = true;
+                     gate.max_position_std_m = 0.3;
+                     return std::make_unique<mission::MissionNode>(mission::load_mission_file(f), 1,
+                                                                   kUsPerSecond, true, gate);
+                   }});
   }
   return out;
 }

@@ -2,6 +2,8 @@
 #include <gtest/gtest.h>
 
 #include <cmath>
+#include <string>
+#include <utility>
 
 #include "scores/path_metrics.hpp"
 #include "scores/scores.hpp"
@@ -70,6 +72,38 @@ TEST(Scores, WayfindingLeavesOutTheStartOnly) {
   EXPECT_TRUE(s.start_excluded);
   EXPECT_EQ(s.wayfinding_points, 2);
   EXPECT_NEAR(s.vrx_wayfinding, (0 + kPiForTest) / 2, 1e-12);  // the goal: facing north, not south
+}
+
+// A vehicle that begins away from the first point, beside or past it along the first segment (it
+// drifted while the mission waited for the estimate), joins the first segment where it is, as the
+// follower does: the first point counts as reached and is not a wayfinding point. Behind it, the
+// first point is scored as any other (the old rule for every start: 0 reached, 3 missed below).
+TEST(Scores, AStartPointTheVehicleBeganBesideOrPastIsPassed) {
+  const std::vector<Goal> path{{0, 0}, {10, 0}, {10, 10}};
+  const auto from = [&](double n, double e) {
+    return score_path({{0, n, e, 0}, {1, 10, 0.5, 0}, {2, 10, 10, 0}}, path, 0.0, 2.0);
+  };
+  for (const auto& [n, e] : {std::pair{3.0, 0.0}, {0.0, 3.5}, {2.0, -3.0}}) {
+    SCOPED_TRACE(std::to_string(n) + ", " + std::to_string(e));
+    const auto s = from(n, e);
+    EXPECT_TRUE(s.start_passed);
+    EXPECT_EQ(s.waypoints_reached, 3);
+    EXPECT_EQ(s.waypoints_missed, 0);
+    EXPECT_TRUE(s.start_excluded);
+    EXPECT_EQ(s.wayfinding_points, 2);
+    EXPECT_NEAR(s.vrx_wayfinding, 0.25, 1e-12);  // (0.5 + 0) / 2
+  }
+  // Behind the first point (-3 m along the first segment): it is still to be reached.
+  auto s = from(-3, 0);
+  EXPECT_FALSE(s.start_passed);
+  EXPECT_EQ(s.waypoints_reached, 0);
+  EXPECT_EQ(s.waypoints_missed, 3);
+  EXPECT_EQ(s.wayfinding_points, 3);
+  // Within the visit radius: started at it, reached at once (not "passed").
+  s = from(0.5, 0.5);
+  EXPECT_FALSE(s.start_passed);
+  EXPECT_EQ(s.waypoints_reached, 3);
+  EXPECT_TRUE(s.start_excluded);
 }
 
 TEST(Scores, OnePointPathAsFollowed) {
