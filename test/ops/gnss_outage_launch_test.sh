@@ -22,10 +22,10 @@ trap 'rm -rf "$tmp"' EXIT
 fail=0
 sed -e 's/^station_keep_s: .*/station_keep_s: 3/' config/missions/default.yaml > "$tmp/mission.yaml"
 sed -e "s|^root: .*|root: $src|" \
-    -e 's|--odometry, estimated,|--odometry, estimated, --gnss-outage, "20:20",|' \
+    -e 's|--odometry, estimated,|--odometry, estimated, --gnss-outage, "33:20",|' \
     -e '/^  - name: cockpit/,$d' \
     config/launch/sim_usv_sensors.yaml > "$tmp/launch.yaml"
-grep -q -- '--gnss-outage, "20:20"' "$tmp/launch.yaml" || { echo "FAIL: could not set the outage in the launch file"; exit 1; }
+grep -q -- '--gnss-outage, "33:20"' "$tmp/launch.yaml" || { echo "FAIL: could not set the outage in the launch file"; exit 1; }
 "$bin/tiller-key" new "$tmp/sim.key" > /dev/null || { echo "FAIL: tiller-key new"; exit 1; }
 MISSION="$tmp/mission.yaml" TILLER_KEY_FILE="$tmp/sim.key" TMPDIR="$tmp" timeout 240 \
   "$bin/tiller-launch" "$tmp/launch.yaml" --log-file "$tmp/run.lcmlog" > "$tmp/launch.out" 2>&1

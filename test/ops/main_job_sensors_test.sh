@@ -11,6 +11,7 @@
 #     TILLER_GROUND_TRUTH here), valid (position, velocity, attitude) from 5 s on, never dead reckoning;
 #   - the estimation error (tiller-score: TILLER_ODOMETRY vs TILLER_GROUND_TRUTH) within issue 14's
 #     targets, position RMS <= 0.5 m and heading RMS <= 1 deg;
+#   - the start gate: the path and the arm request only once tiller-nav's 1-sigma was <= 0.3 m;
 #   - the failsafe trips nothing, and the launcher removed its run directory (${RUN_DIR}).
 # About 95 s of wall time (the default mission flies in real time). Args: SOURCE_DIR BUILD_DIR
 set -u
@@ -48,6 +49,20 @@ awk -F, 'NR > 1 { n++; if (n == 1) t0 = $1; t1 = $1
                printf "TILLER_ODOMETRY: %d messages, %.1f Hz, %d not valid after 5 s, %d dead reckoning\n", n, r, bad, dr
                exit !(n > 1000 && r > 48 && r < 52 && bad == 0 && dr == 0) }' "$tmp/odom.csv" ||
   { echo "FAIL: TILLER_ODOMETRY is not tiller-nav's valid 50 Hz estimate"; fail=1; }
+
+# The start gate (tiller-mission --start-std-m 0.3): no path and no arm request until tiller-nav's
+# horizontal 1-sigma (the larger eigenvalue's root of the north-east covariance) was <= 0.3 m; it
+# was above that after the first fix, so the gate did wait.
+"$bin/tiller-log" csv "$log" TILLER_ODOMETRY --fields valid,pose_covariance[0],pose_covariance[1],pose_covariance[7] \
+  > "$tmp/cov.csv" 2>&1
+path_t=$("$bin/tiller-log" csv "$log" TILLER_PATH --fields path_id 2>/dev/null | awk -F, 'NR == 2 { print $1 }')
+arm_t=$("$bin/tiller-log" csv "$log" TILLER_ARM_REQUEST --fields arm 2>/dev/null | awk -F, 'NR == 2 { print $1 }')
+awk -F, -v tp="${path_t:-0}" -v ta="${arm_t:-0}" '
+  NR > 1 && $1 < tp && $2 % 2 == 1 { m = ($3 + $5) / 2; d = sqrt(($3 - $5) ^ 2 / 4 + $4 ^ 2); s = sqrt(m + d)
+                                     if (s > 0.3) above++; last = s }
+  END { printf "start gate: path at %.2f s, arm request at %.2f s; before it %d odometry samples above 0.3 m, the last %.3f m\n", tp, ta, above, last
+        exit !(tp > 5 && ta >= tp && above > 10 && last <= 0.3) }' "$tmp/cov.csv" ||
+  { echo "FAIL: the mission did not wait for the estimate's 1-sigma <= 0.3 m"; fail=1; }
 
 # The estimation error against the simulator's truth (tiller-score's line).
 line=$(grep "^estimation error" "$tmp/out")
