@@ -177,6 +177,11 @@ void CockpitNode::on_mission(int client, const void* jp, TimeUs now) {
   const std::string c = what && what->is_string() ? what->get<std::string>() : "";
   mission_command_t mc{};
   if (c == "start") {
+    if (!gate_.open(now)) {
+      refuse(client, cmd, *not_ready_,
+             std::string("start refused: the estimate is not ready: ") + gate_.why(now));
+      return;
+    }
     mc.command = mission_command_t::START;
   } else if (c == "pause") {
     mc.command = mission_command_t::PAUSE;

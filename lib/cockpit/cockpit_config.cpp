@@ -50,6 +50,12 @@ CockpitConfig load_cockpit(const config::Value& root) {
     p.thruster_test.max_command = t->number_or("max_command", 0.1, {0.0, 0.3});
     p.thruster_test.timeout = from_seconds(t->number_or("timeout_s", 0.5, {0.15, 2.0}));
   }
+  if (auto g = root.find("start_gate")) {
+    p.start_gate.enabled = true;
+    p.start_gate.max_position_std_m =
+        g->number_or("max_position_std_m", p.start_gate.max_position_std_m, {0.001, 1000.0});
+    p.start_gate.settle_s = g->number_or("settle_s", 0.0, {0.0, 3600.0});
+  }
   root.check_all_used();
   return c;
 }

@@ -27,6 +27,7 @@
 #include "cockpit/thruster_test.hpp"
 #include "core/config.hpp"
 #include "core/time.hpp"
+#include "mission/start_gate.hpp"
 
 namespace tiller::cockpit {
 
@@ -45,6 +46,9 @@ struct CockpitParams {
   double gamepad_gain = 1.0;
   std::vector<GamepadAxis> axes;
   ThrusterTestParams thruster_test;
+  // start_gate: {max_position_std_m, settle_s}: a mission "start" is refused until the estimate
+  // is good (mission/start_gate.hpp, as tiller-mission --start-std-m); absent: not checked.
+  mission::StartGateParams start_gate;
 };
 
 struct ServerParams {

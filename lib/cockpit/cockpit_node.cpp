@@ -6,6 +6,7 @@
 
 #include <algorithm>
 #include <cctype>
+#include <type_traits>
 #include <utility>
 
 #include <tiller/allocation_status_t.hpp>
@@ -84,6 +85,7 @@ void CockpitNode::on_state(const Msg& m, TimeUs now) {
   s.msg = m;
   s.rx = now;
   s.dirty = true;
+  if constexpr (std::is_same_v<Msg, odometry_t>) gate_.on_odometry(m, now);
 }
 
 CockpitNode::CockpitNode(CockpitParams p, std::string token, MissionLoader loader)
@@ -91,7 +93,8 @@ CockpitNode::CockpitNode(CockpitParams p, std::string token, MissionLoader loade
       p_(std::move(p)),
       token_(std::move(token)),
       loader_(std::move(loader)),
-      test_(p_.thruster_test) {
+      test_(p_.thruster_test),
+      gate_(p_.start_gate) {
   const auto& ch = state_channels();
   auto add = [&](auto slot, int index, auto handler) {
     slot->channel = ch[static_cast<std::size_t>(index)];
@@ -150,6 +153,7 @@ CockpitNode::CockpitNode(CockpitParams p, std::string token, MissionLoader loade
   pilot_closed_ = &counter("pilot.lost.closed");
   pilot_released_ = &counter("pilot.lost.released");
   test_refused_ = &counter("rejected.thruster_test.refused");
+  not_ready_ = &counter("rejected.mission.not_ready");
   frame_.reserve(64 * 1024);
   set_health(heartbeat_t::STATE_OK, "serving the cockpit");
 }

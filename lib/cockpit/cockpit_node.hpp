@@ -23,7 +23,9 @@
 //                                           path_repeat_s until abort/release) + TILLER_MODE
 //                                           WAYPOINTING, once
 //   mission start/pause/resume/abort/release -> TILLER_MISSION_COMMAND (a new command_id each);
-//                                           release also a disarm request
+//                                           release also a disarm request; with start_gate a
+//                                           start is refused (rejected.mission.not_ready) while
+//                                           the odometry fails mission/start_gate.hpp's test
 //   gamepad (axes of the browser's Gamepad API) -> TILLER_MANUAL_DEMAND
 //   thruster_test (hold-to-spin, needs confirm) -> TILLER_THRUSTER_TEST (cockpit/thruster_test.hpp)
 // The cockpit never publishes thruster commands (a thruster test is a request to the mixer's gate):
@@ -136,6 +138,7 @@ class CockpitNode : public Node {
   path_t path_;
   TimeUs path_sent_ = 0;
   std::int64_t last_id_ = 0;
+  mission::StartGate gate_;
   // counters
   std::int64_t* accepted_;
   std::int64_t* bad_token_;
@@ -149,6 +152,7 @@ class CockpitNode : public Node {
   std::int64_t* heartbeat_unknown_;
   std::int64_t* bad_heartbeat_;
   std::int64_t* test_refused_;
+  std::int64_t* not_ready_;
 };
 
 }  // namespace tiller::cockpit

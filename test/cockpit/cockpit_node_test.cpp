@@ -308,6 +308,52 @@ TEST(CockpitNode, MissionLoadStartAndErrorsWithLineAndKey) {
   EXPECT_EQ(r.bus.on<path_t>(channels::kPath).size(), n);
 }
 
+// With start_gate, a mission start is refused while the estimate is not good enough, saying why;
+// once the odometry's 1-sigma is within the limit the same command goes out.
+TEST(CockpitNode, StartWaitsForTheEstimateWithAStartGate) {
+  CockpitParams p = params();
+  p.start_gate.enabled = true;
+  p.start_gate.max_position_std_m = 0.3;
+  CollectBus bus;
+  CockpitNode node(p, kToken, &load_mission_text);
+  node.attach(&bus);
+  json reply;
+  node.set_sink([&](int, const std::string& s) {
+    const json j = json::parse(s);
+    if (j["type"] == "reply") reply = j;
+  });
+  const auto odom = [&](double var, TimeUs t) {
+    odometry_t o{};
+    o.utime = t;
+    o.valid = 7;  // position, velocity, attitude
+    o.n_pose_cov = 36;
+    o.pose_covariance.assign(36, 0.0);
+    o.pose_covariance[0] = o.pose_covariance[7] = var;
+    std::vector<std::uint8_t> buf(static_cast<std::size_t>(o.getEncodedSize()));
+    o.encode(buf.data(), 0, static_cast<int>(buf.size()));
+    node.deliver(channels::kOdometry, buf.data(), static_cast<int>(buf.size()), t);
+  };
+  const auto start = [&](TimeUs t) {
+    json j = {{"type", "mission"}, {"command", "start"}, {"token", kToken}};
+    node.command(1, j.dump(), t);
+  };
+  start(100'000);  // no odometry at all
+  EXPECT_FALSE(reply["ok"].get<bool>());
+  EXPECT_EQ(reply["error"], "start refused: the estimate is not ready: no odometry yet");
+  odom(0.25, 200'000);  // 0.5 m
+  start(200'000);
+  EXPECT_EQ(reply["error"],
+            "start refused: the estimate is not ready: position 1-sigma 0.50 m > 0.30 m");
+  EXPECT_TRUE(bus.on<mission_command_t>(channels::kMissionCommand).empty());
+  EXPECT_EQ(node.counter_value("rejected.mission.not_ready"), 2);
+  odom(0.04, 300'000);  // 0.2 m
+  start(300'000);
+  EXPECT_TRUE(reply["ok"].get<bool>()) << reply.dump();
+  const auto cmds = bus.on<mission_command_t>(channels::kMissionCommand);
+  ASSERT_EQ(cmds.size(), 1u);
+  EXPECT_EQ(cmds[0].command, mission_command_t::START);
+}
+
 // Every controller_mode_t constant can be asked for by name, the ROV modes included.
 TEST(CockpitNode, ModeCommandsCoverTheRovModes) {
   Rig r;
