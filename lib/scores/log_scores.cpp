@@ -62,7 +62,7 @@ RunScores score_events(const std::vector<Event>& events, const std::vector<Goal>
   r.path_scores = score_path(r.poses, r.path, start, complete_at);
   r.samples = r.poses.size();
   if (have_truth && !estimate.empty()) {
-    score_estimation(estimate_at, truth_at, r);
+    score_estimation(estimate_at, truth_at, r, start);
     // The follower followed the estimate: a one-point path from where the estimate was.
     r.estimate_path = path_as_followed(path, estimate, start);
     r.estimate_path_scores = score_path(estimate, r.estimate_path, start, complete_at);
@@ -79,9 +79,9 @@ RunScores score_events(const std::vector<Event>& events, const std::vector<Goal>
 }
 
 void score_estimation(const std::vector<Pose>& estimate, const std::vector<Pose>& truth,
-                      RunScores& r) {
-  double sp = 0, sh = 0, mp = 0;
-  std::size_t n = 0, j = 0;
+                      RunScores& r, double start) {
+  double sp = 0, sh = 0, mp = 0, msp = 0, msh = 0;
+  std::size_t n = 0, j = 0, mn = 0;
   for (const Pose& e : estimate) {
     if (truth.size() < 2 || e.t < truth.front().t || e.t > truth.back().t) continue;
     while (j + 2 < truth.size() && truth[j + 1].t < e.t) ++j;
@@ -97,8 +97,17 @@ void score_estimation(const std::vector<Pose>& estimate, const std::vector<Pose>
     sh += dh * dh;
     mp = std::max(mp, dp);
     ++n;
+    if (e.t >= start) {
+      msp += dp * dp;
+      msh += dh * dh;
+      ++mn;
+    }
   }
   r.estimation_samples = n;
+  if (mn > 0) {
+    r.mission_position_error_rms = std::sqrt(msp / static_cast<double>(mn));
+    r.mission_heading_error_rms = std::sqrt(msh / static_cast<double>(mn));
+  }
   if (n == 0) return;
   r.position_error_rms = std::sqrt(sp / static_cast<double>(n));
   r.position_error_max = mp;
@@ -126,9 +135,11 @@ void print_scores(const RunScores& r, std::FILE* out) {
   if (r.estimated()) {  // not on truth odometry
     std::fprintf(out,
                  "estimation error    position RMS %.3f m (max %.3f m), heading RMS %.2f deg "
-                 "(TILLER_ODOMETRY vs truth, %zu samples)\n",
+                 "(TILLER_ODOMETRY vs truth, %zu samples); from the mission's start %.3f m, "
+                 "%.2f deg\n",
                  r.position_error_rms, r.position_error_max, r.heading_error_rms * 180.0 / M_PI,
-                 r.estimation_samples);
+                 r.estimation_samples, r.mission_position_error_rms,
+                 r.mission_heading_error_rms * 180.0 / M_PI);
   }
   if (r.estimated() && r.estimate_path_scores) {
     const auto& e = *r.estimate_path_scores;

@@ -33,6 +33,10 @@ struct RunScores {
   std::size_t estimation_samples = 0;
   double position_error_rms = -1, position_error_max = -1;  // m, horizontal
   double heading_error_rms = -1;                            // rad
+  // The same from the mission's start (the first TILLER_PATH) on: what the vehicle flew on. A
+  // mission behind tiller-mission's start gate starts once the filter has converged; the whole
+  // run's figures above carry the convergence from the first fix (-1: no sample after it).
+  double mission_position_error_rms = -1, mission_heading_error_rms = -1;  // m, rad
   // With both: the path scored on the odometry poses (estimate_poses), with the same start and
   // completion: cross-track to the path as the follower followed it from the estimate, waypoints
   // reached by the estimate within the visit radius, time to complete (the follower's completion;
@@ -48,9 +52,10 @@ struct RunScores {
 
 // The estimation error of `estimate` against `truth` (both in time order): RMS and largest
 // horizontal position error, RMS heading error (wrapped), over the estimates within the truth's
-// time span. Fills the estimation_* fields of `r`.
+// time span. Fills the estimation_* fields of `r`, and mission_* over the estimates at or after
+// `start` (s).
 void score_estimation(const std::vector<Pose>& estimate, const std::vector<Pose>& truth,
-                      RunScores& r);
+                      RunScores& r, double start = 0);
 
 // The events in time order (a log, or what a lockstep run published). `mission_path`: the
 // waypoints to score against (empty: the first TILLER_PATH's). Throws std::runtime_error when

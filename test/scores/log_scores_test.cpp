@@ -88,6 +88,28 @@ TEST(LogScores, ThePathIsScoredOnTheTruthAndOnTheEstimate) {
   EXPECT_LE(t.cross_track_max, e.cross_track_max + r.position_error_max + 1e-12);
 }
 
+// The estimation error from the mission's start: a filter converging from a 3 m first fix before
+// the mission (t < 2 s) counts in the whole run's figure only. Hand-computed: errors 3, 1, 0.2,
+// 0.2, 0.2 m and heading 0.1 rad at t = 0, 1 only.
+TEST(LogScores, TheEstimationErrorFromTheMissionsStart) {
+  std::vector<Pose> truth, estimate;
+  const double err[] = {3, 1, 0.2, 0.2, 0.2};
+  for (int k = 0; k < 5; ++k) {
+    truth.push_back({double(k), 1.0 * k, 0, 0});
+    estimate.push_back({double(k), 1.0 * k, err[k], k < 2 ? 0.1 : 0.0});
+  }
+  RunScores r;
+  score_estimation(estimate, truth, r, 2.0);
+  EXPECT_EQ(r.estimation_samples, 5u);
+  EXPECT_NEAR(r.position_error_rms, std::sqrt((9 + 1 + 3 * 0.04) / 5), 1e-12);
+  EXPECT_NEAR(r.heading_error_rms, std::sqrt(2 * 0.01 / 5), 1e-12);
+  EXPECT_NEAR(r.mission_position_error_rms, 0.2, 1e-12);
+  EXPECT_NEAR(r.mission_heading_error_rms, 0.0, 1e-12);
+  // From 0: the same as the whole run.
+  score_estimation(estimate, truth, r, 0.0);
+  EXPECT_NEAR(r.mission_position_error_rms, r.position_error_rms, 1e-12);
+}
+
 TEST(LogScores, WithoutACompletionEachPoseCompletesWhenItReachesTheGoal) {
   const auto r = score_events(run_on_estimate(false));
   EXPECT_DOUBLE_EQ(r.path_scores.time_to_complete, -1.0);  // the truth never got within 1 m

@@ -95,6 +95,8 @@ TEST(ScoreTool, OnEstimatedStateTheEstimateIsScoredToo) {
   const auto out = run_score(write_log("estimated.lcmlog", true, 2.3));
   EXPECT_NE(out.find("estimation error    position RMS 0.300 m (max 0.300 m)"), std::string::npos)
       << out;
+  EXPECT_NE(out.find("samples); from the mission's start 0.300 m, 0.00 deg"), std::string::npos)
+      << out;
   EXPECT_NE(out.find("cross-track RMS     0.000 m (max 0.000 m)"), std::string::npos) << out;
   EXPECT_NE(out.find("on the estimate     cross-track RMS 0.174 m (max 0.300 m), waypoints "
                      "reached 2, missed 0, time to complete 10.0 s (TILLER_ODOMETRY, 121 "
