@@ -144,7 +144,7 @@ TEST(RunTool, EstimatedStateMeetsTheEstimationTargetsOnTheShippedMissions) {
 // fixes return the estimate converges and the mission completes at its goal. Before the aided
 // INS the velocity went invalid 13 s in, the mixer disarmed and the boat stayed stopped. With the
 // sway constraint (usv_sim.yaml) the velocity stays within the limit: invalid 0 s, largest error
-// 3.1 m (the first fix's, at the start; without it 7.2 m, the outage's drift), final 0.46 m.
+// 3.1 m (the first fix's, at the start; without it 7.2 m, the outage's drift), final 0.51 m.
 TEST(RunTool, EstimatedStateCarriesOnThroughA20sGnssOutageAndRecovers) {
   RunSpec s = default_spec();
   s.sim_args = {"--odometry", "estimated", "--gnss-outage", "20:20"};
