@@ -12,6 +12,8 @@ namespace tiller::nav {
 namespace {
 // cos(theta) floor in the Euler-rate kinematics: |pitch| <= ~85 deg (the ZYX singularity at 90).
 constexpr double kMinCosPitch = 0.087;
+constexpr int kCore = kCoreStates;
+using CoreCovariance = Eigen::Matrix<double, kCore, kCore>;
 }  // namespace
 
 Ekf::Ekf(const ProcessNoise& q) : q_(q) {}
@@ -45,7 +47,8 @@ void Ekf::predict(double dt, const Motion& m) {
   const double rc = m.r - x_(kBiasR);
   const double psi_dot = (m.q * std::sin(m.roll) + rc * cf) / ct;
 
-  Covariance f = Covariance::Identity();
+  // The Jacobian of the first kCoreStates; the current's block is the identity.
+  CoreCovariance f = CoreCovariance::Identity();
   f.block<3, 3>(kN, kU) = r * dt;
   f.block<3, 1>(kN, kPsi) = dp_dpsi * dt;
   f(kPsi, kBiasR) = -cf / ct * dt;
@@ -68,7 +71,13 @@ void Ekf::predict(double dt, const Motion& m) {
     x_(kV) += vdot * dt;
   }
 
-  P_ = f * P_ * f.transpose();
+  const CoreCovariance pc = P_.topLeftCorner<kCore, kCore>();
+  P_.topLeftCorner<kCore, kCore>() = f * pc * f.transpose();
+  if (!current_apart()) {
+    const Eigen::Matrix<double, kCore, 2> cross = f * P_.topRightCorner<kCore, 2>();
+    P_.topRightCorner<kCore, 2>() = cross;
+    P_.bottomLeftCorner<2, kCore>() = cross.transpose();
+  }
   P_(kN, kN) += q_.position * dt;
   P_(kE, kE) += q_.position * dt;
   P_(kD, kD) += q_.position * dt;
@@ -79,12 +88,20 @@ void Ekf::predict(double dt, const Motion& m) {
   P_(kBiasR, kBiasR) += q_.gyro_bias * dt;
   P_(kBiasAx, kBiasAx) += q_.accel_bias * dt;
   P_(kBiasAy, kBiasAy) += q_.accel_bias * dt;
+  P_(kCurrentN, kCurrentN) += q_.current * dt;
+  P_(kCurrentE, kCurrentE) += q_.current * dt;
+}
+
+bool Ekf::current_apart() const {
+  return P_.topRightCorner<kCore, 2>().isZero(0.0);
 }
 
 template <int M>
 UpdateResult Ekf::update(const Eigen::Matrix<double, M, 1>& y,
                          const Eigen::Matrix<double, M, kStates>& h,
                          const Eigen::Matrix<double, M, M>& r, double gate) {
+  if (current_apart() && h.template rightCols<2>().isZero(0.0))
+    return update_core<M>(y, h, r, gate);
   const Eigen::Matrix<double, kStates, M> pht = P_ * h.transpose();
   const Eigen::Matrix<double, M, M> s = h * pht + r;
   const Eigen::Matrix<double, M, M> s_inv = s.inverse();
@@ -96,6 +113,29 @@ UpdateResult Ekf::update(const Eigen::Matrix<double, M, 1>& y,
   x_(kPsi) = wrap_pi(x_(kPsi));
   const Covariance ikh = Covariance::Identity() - k * h;
   P_ = ikh * P_ * ikh.transpose() + k * r * k.transpose();  // Joseph form: stays symmetric PSD
+  out.accepted = true;
+  return out;
+}
+
+// The same update on the first kCoreStates: the current, uncorrelated and not measured, keeps
+// its value and covariance (K's rows for it would be 0).
+template <int M>
+UpdateResult Ekf::update_core(const Eigen::Matrix<double, M, 1>& y,
+                              const Eigen::Matrix<double, M, kStates>& hf,
+                              const Eigen::Matrix<double, M, M>& r, double gate) {
+  const CoreCovariance p = P_.topLeftCorner<kCore, kCore>();
+  const Eigen::Matrix<double, M, kCore> h = hf.template leftCols<kCore>();
+  const Eigen::Matrix<double, kCore, M> pht = p * h.transpose();
+  const Eigen::Matrix<double, M, M> s = h * pht + r;
+  const Eigen::Matrix<double, M, M> s_inv = s.inverse();
+  UpdateResult out;
+  out.nis = y.dot(s_inv * y);
+  if (!std::isfinite(out.nis) || (gate > 0 && out.nis > gate)) return out;
+  const Eigen::Matrix<double, kCore, M> k = pht * s_inv;
+  x_.head<kCore>() += k * y;
+  x_(kPsi) = wrap_pi(x_(kPsi));
+  const CoreCovariance ikh = CoreCovariance::Identity() - k * h;
+  P_.topLeftCorner<kCore, kCore>() = ikh * p * ikh.transpose() + k * r * k.transpose();
   out.accepted = true;
   return out;
 }
@@ -140,6 +180,24 @@ UpdateResult Ekf::update_vertical_velocity(double z, double variance, double gat
   h(0, kW) = 1;
   const Eigen::Matrix<double, 1, 1> y(z - x_(kW));
   return update<1>(y, h, Eigen::Matrix<double, 1, 1>(variance), gate);
+}
+
+double Ekf::sway_std(double std_mps, double rate_gain_s, double r, double u) {
+  return std_mps + rate_gain_s * std::abs(r) * std::abs(u);
+}
+
+UpdateResult Ekf::update_sway(const Motion& m, double std_mps, double rate_gain_s, double gate) {
+  const double sp = std::sin(x_(kPsi)), cp = std::cos(x_(kPsi));
+  const double cn = x_(kCurrentN), ce = x_(kCurrentE);
+  // h(x) = v - v_c, v_c = -sin(psi) c_n + cos(psi) c_e; z = 0.
+  Eigen::Matrix<double, 1, kStates> h = Eigen::Matrix<double, 1, kStates>::Zero();
+  h(0, kV) = 1;
+  h(0, kPsi) = cp * cn + sp * ce;  // -dv_c/dpsi
+  h(0, kCurrentN) = sp;
+  h(0, kCurrentE) = -cp;
+  const Eigen::Matrix<double, 1, 1> y(-sp * cn + cp * ce - x_(kV));
+  const double sd = sway_std(std_mps, rate_gain_s, m.r - x_(kBiasR), x_(kU));
+  return update<1>(y, h, Eigen::Matrix<double, 1, 1>(sd * sd), gate);
 }
 
 void Ekf::set_block(int index, int n, double variance) {

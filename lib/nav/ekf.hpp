@@ -1,9 +1,10 @@
 // tiller-nav's filter: an extended Kalman filter of a marine vehicle's position, body velocity and
 // heading (docs/navigation.md has the models and their sources).
 //
-// State x (kStates = 10): [n e d] m, local NED about the datum; [u v w] m/s, velocity over ground
+// State x (kStates = 12): [n e d] m, local NED about the datum; [u v w] m/s, velocity over ground
 // in body FRD; psi rad, heading in (-pi, pi]; b_r rad/s, the gyro's yaw-rate bias; [b_ax b_ay]
-// m/s^2, the accelerometer's forward and starboard biases.
+// m/s^2, the accelerometer's forward and starboard biases; [c_n c_e] m/s, the water current's
+// velocity over ground in NED (random walks, observed only through the sway constraint).
 // Roll, pitch, the body rates [p q r] and the body acceleration are inputs (the IMU's own fused
 // attitude, its gyro and its accelerometer less gravity), not states: a Motion sample, held
 // between IMU samples.
@@ -11,12 +12,18 @@
 // psi) [u v w]; psi_dot = (q sin(phi) + (r - b_r) cos(phi)) / cos(theta); with the acceleration
 // (an aided INS, Fossen 2021 ch. 14): u_dot = a_x - b_ax + r' v - q w, v_dot = a_y - b_ay - r' u
 // + p w (r' = r - b_r: nu_dot = a - omega x nu in the body frame), else u and v random walks;
-// w, b_r, b_ax and b_ay random walks; integrated with Euler steps, covariance P <- F P F^T + Q dt.
+// w, b_r, b_ax, b_ay, c_n and c_e random walks; integrated with Euler steps, covariance
+// P <- F P F^T + Q dt. The current enters no other state's model (the velocity is over ground):
+// F is block diagonal, the first kCoreStates and the current, and predict keeps that structure.
 // Measurements: north-east position (GNSS), north-east velocity (GNSS), heading, depth, and the
-// vertical velocity (a surface vehicle's w = 0). Each update gates on the normalised innovation
-// squared NIS = y^T S^-1 y (chi-square with as many degrees of freedom as the measurement has):
-// above the gate the measurement is refused and the state is left as it was. Joseph-form
-// covariance update. Fixed-size Eigen matrices only: predict and update never allocate.
+// vertical velocity (a surface vehicle's w = 0), and the sway constraint (update_sway: a surface
+// vessel's sway through the water is near 0 on straights). Each update gates on the normalised
+// innovation squared NIS = y^T S^-1 y (chi-square with as many degrees of freedom as the
+// measurement has): above the gate the measurement is refused and the state is left as it was.
+// Joseph-form covariance update. Fixed-size Eigen matrices only: predict and update never allocate.
+// While the current is uncorrelated with the rest (no sway update yet) and a measurement does not
+// involve it, predict and update work on the first kCoreStates alone: the same arithmetic, bit for
+// bit, as the filter without the current states.
 // Time is a dt argument; nothing here reads a clock.
 #pragma once
 
@@ -24,7 +31,8 @@
 
 namespace tiller::nav {
 
-inline constexpr int kStates = 10;
+inline constexpr int kStates = 12;
+inline constexpr int kCoreStates = 10;  // all but the current
 enum StateIndex : int {
   kN = 0,
   kE = 1,
@@ -35,7 +43,9 @@ enum StateIndex : int {
   kPsi = 6,
   kBiasR = 7,
   kBiasAx = 8,
-  kBiasAy = 9
+  kBiasAy = 9,
+  kCurrentN = 10,
+  kCurrentE = 11
 };
 
 using State = Eigen::Matrix<double, kStates, 1>;
@@ -49,6 +59,7 @@ struct ProcessNoise {
   double heading = 1e-4;              // rad^2/s: gyro noise integrated into the heading
   double gyro_bias = 1e-8;            // (rad/s)^2/s: yaw-rate bias random walk
   double accel_bias = 3e-5;           // (m/s^2)^2/s: accelerometer bias random walk (x, y)
+  double current = 1e-5;              // (m/s)^2/s: water current random walk (north, east)
 };
 
 // The IMU's part, held between its samples: roll and pitch (rad, ZYX Euler body->NED), the
@@ -84,6 +95,14 @@ class Ekf {
   UpdateResult update_heading(double z, double variance, double gate);
   UpdateResult update_depth(double z, double variance, double gate);
   UpdateResult update_vertical_velocity(double z, double variance, double gate);
+  // The sway constraint, a pseudo-measurement 0 = v - v_c, v_c = -sin(psi) c_n + cos(psi) c_e
+  // (the current's starboard component: the body's sway through the water is 0), with the
+  // 1-sigma sway_std(std_mps, rate_gain_s, r - b_r, u) (m/s) for the motion's yaw rate r.
+  // Roll and pitch are taken as 0 (a surface vessel).
+  UpdateResult update_sway(const Motion& m, double std_mps, double rate_gain_s, double gate);
+  // The constraint's 1-sigma, m/s: std_mps + rate_gain_s |r| |u| (r rad/s, u m/s; a turning hull
+  // sways, roughly in proportion to its yaw rate and speed).
+  static double sway_std(double std_mps, double rate_gain_s, double r, double u);
 
   // Sets one part of the state from a measurement (its first value): the part's covariance
   // becomes `variance` on the diagonal, its correlations with the rest 0.
@@ -104,7 +123,13 @@ class Ekf {
   UpdateResult update(const Eigen::Matrix<double, M, 1>& y,
                       const Eigen::Matrix<double, M, kStates>& h,
                       const Eigen::Matrix<double, M, M>& r, double gate);
+  template <int M>
+  UpdateResult update_core(const Eigen::Matrix<double, M, 1>& y,
+                           const Eigen::Matrix<double, M, kStates>& h,
+                           const Eigen::Matrix<double, M, M>& r, double gate);
   void set_block(int index, int n, double variance);
+  // True while the current's covariance has no correlation with the other states.
+  bool current_apart() const;
 
   ProcessNoise q_;
   State x_ = State::Zero();

@@ -52,6 +52,7 @@ NavNode::NavNode(const NavParams& p)
   gate_gnss_velocity_ = &counter("rejected.gnss_velocity.gate");
   gate_heading_ = &counter("rejected.heading.gate");
   gate_depth_ = &counter("rejected.depth.gate");
+  gate_sway_ = &counter("rejected.sway.gate");
   fixes_used_ = &counter("gnss.fixes_used");
   repeated_ = &counter("rejected.gnss.repeated");
   no_fix_ = &counter("gnss.no_fix");
@@ -69,6 +70,7 @@ NavNode::NavNode(const NavParams& p)
   c(kPsi, kPsi) = sq(kPi);
   c(kBiasR, kBiasR) = sq(p.initial_gyro_bias_std);
   c(kBiasAx, kBiasAx) = c(kBiasAy, kBiasAy) = sq(p.initial_accel_bias_std);
+  c(kCurrentN, kCurrentN) = c(kCurrentE, kCurrentE) = sq(p.initial_current_std_mps);
   ekf_.reset(x, c);
   attitude_var_[0] = attitude_var_[1] = sq(p.imu.default_attitude_std);
   for (double& v : rate_var_) v = sq(p.imu.default_rate_std);
@@ -360,6 +362,15 @@ void NavNode::on_tick(TimeUs now) {
   for (int i : {kN, kE, kD}) ekf_.cap_variance(i, kPositionCap);
   for (int i : {kU, kV, kW}) ekf_.cap_variance(i, kVelocityCap);
   for (int i : {kBiasAx, kBiasAy}) ekf_.cap_variance(i, kAccelBiasCap);
+  // The current: unobserved without the sway constraint, kept at its prior's variance.
+  for (int i : {kCurrentN, kCurrentE}) ekf_.cap_variance(i, sq(p_.initial_current_std_mps));
+  const bool imu_fresh = have_imu_ && now - last_imu_ <= from_seconds(p_.imu.timeout_s);
+  if (p_.sway.enabled && imu_fresh && heading_init_ &&
+      std::abs(ekf_.x()(kU)) >= p_.sway.min_speed_mps) {
+    const auto& w = p_.sway;
+    if (!ekf_.update_sway(motion_, w.std_mps, w.rate_gain_s, w.gate_chi2).accepted)
+      reject(*gate_sway_);
+  }
   const std::int32_t valid = validity(now);
   if (!(valid & odometry_t::VALID_POSITION)) ++*invalid_out_;
   odom_.valid = valid;

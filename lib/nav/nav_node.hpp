@@ -7,7 +7,9 @@
 // with the estimated velocity (at most gnss.max_latency_s). Roll, pitch and body rates come from
 // the IMU (its fused quaternion, else the accelerometer's tilt); heading from TILLER_HEADING
 // (a magnetic one plus heading.declination_deg); depth from TILLER_PRESSURE, or 0 for a surface
-// vehicle. The first measurement of each part sets it; later ones pass the innovation gate or
+// vehicle; with sway.enabled the sway constraint at each tick while the IMU is fresh and the
+// forward speed |u| >= sway.min_speed_mps (rejected.sway.gate counts the ones refused). The
+// first measurement of each part sets it; later ones pass the innovation gate or
 // are refused and counted (rejected.<input>.gate); a fix of an epoch already taken (the same
 // gnss_utime) is refused and counted (rejected.gnss.repeated). `gnss.reset_after` refused fixes in
 // a row reset the position to the fix (gnss.resets). Validity (odometry_t.valid): position while a
@@ -84,7 +86,7 @@ class NavNode : public Node {
   std::int32_t reported_valid_ = -1;
   bool reported_dr_ = false;
   std::int64_t *bad_gnss_, *bad_imu_, *bad_heading_, *bad_pressure_;
-  std::int64_t *gate_gnss_, *gate_gnss_velocity_, *gate_heading_, *gate_depth_;
+  std::int64_t *gate_gnss_, *gate_gnss_velocity_, *gate_heading_, *gate_depth_, *gate_sway_;
   std::int64_t *fixes_used_, *no_fix_, *resets_, *too_late_, *dr_entered_, *invalid_out_;
   std::int64_t* repeated_;       // rejected.gnss.repeated: an epoch already fused
   std::int64_t last_epoch_ = 0;  // gnss_utime of the last fix taken

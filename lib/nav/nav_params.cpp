@@ -79,6 +79,14 @@ NavParams load_nav_params(const Value& root) {
     q.gate_chi2 = d.number_or("gate_chi2", q.gate_chi2, {0, 1e6});
     q.timeout_s = d.number_or("timeout_s", q.timeout_s, {0.01, 60});
   });
+  section(root, "sway", [&](const Value& w) {
+    auto& q = p.sway;
+    q.enabled = w.boolean_or("enabled", q.enabled);
+    q.std_mps = w.number_or("std_mps", q.std_mps, {1e-4, 10});
+    q.rate_gain_s = w.number_or("rate_gain", q.rate_gain_s, {0, 100});
+    q.min_speed_mps = w.number_or("min_speed_mps", q.min_speed_mps, {0, 20});
+    q.gate_chi2 = w.number_or("gate_chi2", q.gate_chi2, {0, 1e6});
+  });
   section(root, "process", [&](const Value& n) {
     auto& q = p.process;
     q.position = n.number_or("position", q.position, kNonNegative);
@@ -87,12 +95,15 @@ NavParams load_nav_params(const Value& root) {
     q.heading = n.number_or("heading", q.heading, kNonNegative);
     q.gyro_bias = n.number_or("gyro_bias", q.gyro_bias, kNonNegative);
     q.accel_bias = n.number_or("accel_bias", q.accel_bias, kNonNegative);
+    q.current = n.number_or("current", q.current, kNonNegative);
   });
   section(root, "initial", [&](const Value& i) {
     p.initial_velocity_std_mps =
         i.number_or("velocity_std_mps", p.initial_velocity_std_mps, {0.001, 100});
     p.initial_gyro_bias_std = i.number_or("gyro_bias_std", p.initial_gyro_bias_std, {0, 10});
     p.initial_accel_bias_std = i.number_or("accel_bias_std", p.initial_accel_bias_std, {0, 100});
+    p.initial_current_std_mps =
+        i.number_or("current_std_mps", p.initial_current_std_mps, {0.001, 10});
   });
   section(root, "limits", [&](const Value& l) {
     auto& q = p.limits;

@@ -51,11 +51,23 @@ struct NavParams {
     double gate_chi2 = 10.8;
     double timeout_s = 1.0;  // depth invalid past this without a pressure sample
   } depth;
+  // The sway constraint (Ekf::update_sway): a surface vessel's sway through the water is near 0,
+  // applied at each tick while the IMU is fresh and |u| >= min_speed_mps. Off by default: an ROV
+  // translates sideways on purpose; and at rest or holding station the current may push a hull
+  // sideways.
+  struct Sway {
+    bool enabled = false;
+    double std_mps = 0.02;       // m/s, 1-sigma on a straight
+    double rate_gain_s = 0.5;    // s: + rate_gain_s |r| |u| (m/s) in a turn (r rad/s, u m/s)
+    double min_speed_mps = 0.3;  // applied only above this forward speed (m/s, |u|)
+    double gate_chi2 = 10.8;     // 1 degree of freedom, 1 in 1000
+  } sway;
   ProcessNoise process;
   double initial_velocity_std_mps = 2.0;
-  double initial_gyro_bias_std = 0.02;  // rad/s
-  double initial_accel_bias_std = 0.1;  // m/s^2
-  struct Limits {                       // past these 1-sigma values the part is flagged invalid
+  double initial_current_std_mps = 0.3;  // m/s, north and east each
+  double initial_gyro_bias_std = 0.02;   // rad/s
+  double initial_accel_bias_std = 0.1;   // m/s^2
+  struct Limits {                        // past these 1-sigma values the part is flagged invalid
     double position_std_m = 10;
     double velocity_std_mps = 0.5;
     double heading_std = 0.175;  // rad

@@ -31,10 +31,14 @@ namespace {
 
 const std::string kSrc = TILLER_SOURCE_DIR;
 
-// The measured worst where a target is not met (2026-12-03, seed 1, nav accel_bias 1e-4; still
-// water, the worst of the 8 directions), asserted with a 10 % margin; 0: the target holds there.
+// The measured worst where a target is not met (2026-12-03, seed 1, config/nav/usv_sim.yaml with
+// the sway constraint; still water, the worst of the 8 directions), asserted with a 10 % margin;
+// 0: the target holds there.
 //   * estimate cross-track ratio: in still water the truth run's cross-track is a few cm while
 //     the estimate wanders by about 0.1 m over periods of 1 to 10 s with the filtered GNSS noise
+//     (long_course 1.58x with usv_sim.yaml's sway constraint at 1-sigma 0.3 m/s, 1.54x at
+//     0.02 m/s, whose covariance is over-confident in an outage, 1.62x without: it takes the
+//     sway velocity's part of the wander, not the fixes' own)
 //     (a 0.25 m CEP receiver brings default to 1.11x, station_keeping to 1.12x; the IMU's and the
 //     heading's noise change nothing); and the mission starts 1 s after the first fix, so the
 //     first 15 s carry the filter's convergence from that fix's 2 to 3 m error (EstimatedLoop.
@@ -51,7 +55,7 @@ struct Gap {
 };
 const Gap kGaps[] = {
     {"default", 0, 0, 0, 0},
-    {"long_course", 2.36, 0, 0, 2},
+    {"long_course", 1.58, 0, 0, 2},
     {"vrx_wayfinding", 0, 0, 0, 3},
     {"station_keeping", 0, 0, 0, 0},
 };
@@ -178,10 +182,11 @@ TEST(EstimatedLoop, ShippedMissionsInStillWaterAndInACurrent) {
 // The same in still water with the simulator and tiller-nav running 20 s alone before the mission
 // starts (RunSpec::settle_s; in a current the boat would drift 6 m from the mission's start):
 // without the start's convergence the cross-track on the estimate is within 1.5x of the truth
-// run's on every mission but long_course (the estimate's wander, 2.4x), and station_keeping's
-// true cross-track within the truth's plus the estimation RMS (measured 1.22, 2.43, 1.46, 1.31x;
-// station_keeping's true cross-track 0.335 <= 0.686 m; before the settle 2.72, 3.09, 2.53,
-// 5.05x and 1.256 > 0.694 m).
+// run's on every mission but long_course (the estimate's wander), and station_keeping's true
+// cross-track within the truth's plus the estimation RMS (measured with the sway constraint
+// 1.08, 1.55, 1.19, 1.19x, without it 1.09, 1.60, 1.22, 1.19x; station_keeping's true
+// cross-track 0.316 <= 0.687 m; before the start gate and the settle 2.72, 3.09, 2.53, 5.05x and
+// 1.256 > 0.694 m).
 TEST(EstimatedLoop, AfterASettleTheStartTransientIsGone) {
   const Water still{"still, settled", {"--current-speed", "0"}};
   for (const char* m : {"default", "long_course", "vrx_wayfinding", "station_keeping"}) {
@@ -195,7 +200,7 @@ TEST(EstimatedLoop, AfterASettleTheStartTransientIsGone) {
     if (HasFatalFailure()) return;
     EXPECT_NEAR(t.scores.start, 20.0, 0.1);  // the path came after the settle
     const Compared c = compare(m, still.name, t, e);
-    EXPECT_LE(c.est_xte_ratio, std::string(m) == "long_course" ? 1.1 * 2.43 : 1.5);
+    EXPECT_LE(c.est_xte_ratio, std::string(m) == "long_course" ? 1.1 * 1.55 : 1.5);
     EXPECT_LE(c.true_xte_excess, 1.0);
     // Truth missed: vrx_wayfinding settled misses 3 of its 6 on the truth (every one reached on
     // the estimate): the 1 m visit radius against a 0.4 m estimation RMS, as long_course above.

@@ -2,6 +2,8 @@
 //   BM_EkfPredict: one 20 ms predict (state, Jacobian, F P F^T + Q);
 //   BM_EkfUpdate*: one update of each measurement (innovation, S, gate, gain, Joseph form);
 //     the filter is restored from a copy every 1024 updates so P stays realistic;
+//   *Sway: the same with the sway constraint in use (the current correlated with the rest, so
+//     predict carries the cross covariance and updates run on all 12 states, not the first 10);
 //   BM_NavNodeTick: one tick of the node (predict to now, validity, odometry_t filled and
 //     encoded) after its IMU sample, with a heading and a fix every 10th, and BM_NavNodeGnss /
 //     BM_NavNodeImu: one fix (GeographicLib LocalCartesian forward, lag compensation, position and
@@ -27,8 +29,8 @@ void report_allocs(benchmark::State& state, long before) {
   if (allocs > 0) state.SkipWithError("allocated");
 }
 
-// A filter as it is in steady state: a few seconds of predicts and updates.
-Ekf settled() {
+// A filter as it is in steady state: a few seconds of predicts and updates (and sway updates).
+Ekf settled(bool sway = false) {
   Ekf f;
   State x = State::Zero();
   x(kU) = 1.5;
@@ -43,12 +45,13 @@ Ekf settled() {
       f.update_position_ne(f.x().segment<2>(kN), Eigen::Matrix2d::Identity() * 4.5, 13.8);
       f.update_heading(f.x()(kPsi), 1e-3, 10.8);
     }
+    if (sway) f.update_sway(m, 0.02, 0.5, 10.8);
   }
   return f;
 }
 
-void BM_EkfPredict(benchmark::State& state) {
-  Ekf f = settled();
+void BM_EkfPredict(benchmark::State& state, bool sway) {
+  Ekf f = settled(sway);
   const Ekf base = f;
   Motion m;
   m.roll = 0.02;
@@ -63,11 +66,12 @@ void BM_EkfPredict(benchmark::State& state) {
   }
   report_allocs(state, before);
 }
-BENCHMARK(BM_EkfPredict);
+BENCHMARK_CAPTURE(BM_EkfPredict, , false);
+BENCHMARK_CAPTURE(BM_EkfPredict, Sway, true);
 
 template <class Update>
-void run_update(benchmark::State& state, Update&& update) {
-  Ekf f = settled();
+void run_update(benchmark::State& state, Update&& update, bool sway = false) {
+  Ekf f = settled(sway);
   const Ekf base = f;
   int i = 0;
   const long before = tiller::test::allocations();
@@ -78,14 +82,29 @@ void run_update(benchmark::State& state, Update&& update) {
   report_allocs(state, before);
 }
 
-void BM_EkfUpdatePosition(benchmark::State& state) {
-  run_update(state, [](Ekf& f, int i) {
-    const Eigen::Vector2d z(0.3 * (i & 1), -0.2);
-    return f.update_position_ne(f.x().segment<2>(kN) + z, Eigen::Matrix2d::Identity() * 4.5, 13.8)
-        .nis;
-  });
+void BM_EkfUpdatePosition(benchmark::State& state, bool sway) {
+  run_update(
+      state,
+      [](Ekf& f, int i) {
+        const Eigen::Vector2d z(0.3 * (i & 1), -0.2);
+        return f
+            .update_position_ne(f.x().segment<2>(kN) + z, Eigen::Matrix2d::Identity() * 4.5, 13.8)
+            .nis;
+      },
+      sway);
 }
-BENCHMARK(BM_EkfUpdatePosition);
+BENCHMARK_CAPTURE(BM_EkfUpdatePosition, , false);
+BENCHMARK_CAPTURE(BM_EkfUpdatePosition, Sway, true);
+
+void BM_EkfUpdateSway(benchmark::State& state) {
+  Motion m;
+  m.r = 0.05;
+  run_update(
+      state,
+      [&m](Ekf& f, int i) { return f.update_sway(m, 0.02 + 0.001 * (i & 1), 0.5, 10.8).nis; },
+      true);
+}
+BENCHMARK(BM_EkfUpdateSway);
 
 void BM_EkfUpdateVelocity(benchmark::State& state) {
   Motion m;

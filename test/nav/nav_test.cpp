@@ -2,11 +2,13 @@
 // synthetic sensor streams (test/nav/synthetic.hpp): convergence on a straight line and in
 // turns with a 2.5 m CEP GNSS at 5 Hz and a consumer IMU, an outlier refused and counted, a 20 s
 // GNSS outage bridged by dead reckoning, invalid past the limit, an ROV without GNSS, replay
-// identity, config errors.
+// identity, config errors; the sway constraint by hand, its gate, the current it estimates in a
+// synthetic current, and nothing changed with it off.
 #include <gtest/gtest.h>
 
 #include <cmath>
 #include <functional>
+#include <vector>
 
 #include "core/angles.hpp"
 #include "core/config.hpp"
@@ -110,6 +112,55 @@ TEST(NavEkf, GateRefusesAnOutlierAndLeavesTheState) {
   EXPECT_EQ(f.x()(kD), 0.0);
   EXPECT_EQ(f.P()(kD, kD), 4.0);
   EXPECT_TRUE(f.update_depth(10.0, 1.0, 0.0).accepted);  // gate 0: no gate
+}
+
+TEST(NavEkf, SwayUpdateMatchesTheHandComputedGain) {
+  Ekf f = hand_filter(1.0);  // P = I, u = 1
+  f.set_heading(kPi / 2, 1.0);
+  f.set_state(kV, 0.05, 1.0);
+  f.set_state(kCurrentN, 0.2, 1.0);
+  f.set_state(kCurrentE, 0.1, 1.0);
+  Motion m;
+  m.r = 0.2;
+  // Heading east: the current's starboard component v_c = -sin(psi) c_n + cos(psi) c_e = -0.2,
+  // y = v_c - v = -0.25. H: v 1, psi cos(psi) c_n + sin(psi) c_e = 0.1, c_n sin(psi) = 1, c_e
+  // -cos(psi) = 0. R = (0.02 + 0.5 |0.2| |1|)^2 = 0.0144; S = 1 + 0.01 + 1 + 0.0144 = 2.0244.
+  EXPECT_NEAR(Ekf::sway_std(0.02, 0.5, -0.2, 1.0), 0.12, 1e-15);
+  const double s = 2.0244, y = -0.25;
+  const UpdateResult r = f.update_sway(m, 0.02, 0.5, 10.8);
+  EXPECT_TRUE(r.accepted);
+  EXPECT_NEAR(r.nis, y * y / s, 1e-12);
+  // P = I: K = H^T / S, each state moved by H_i y / S.
+  EXPECT_NEAR(f.x()(kV), 0.05 + y / s, 1e-12);
+  EXPECT_NEAR(f.x()(kPsi), kPi / 2 + 0.1 * y / s, 1e-12);
+  EXPECT_NEAR(f.x()(kCurrentN), 0.2 + y / s, 1e-12);
+  EXPECT_NEAR(f.x()(kCurrentE), 0.1, 1e-12);
+  EXPECT_NEAR(f.x()(kU), 1.0, 1e-12);
+  // P = I - H^T H / S (Joseph form, the same for the optimal gain).
+  EXPECT_NEAR(f.P()(kV, kV), 1 - 1 / s, 1e-12);
+  EXPECT_NEAR(f.P()(kV, kCurrentN), -1 / s, 1e-12);
+  EXPECT_NEAR(f.P()(kPsi, kCurrentN), -0.1 / s, 1e-12);
+  EXPECT_NEAR(f.P()(kCurrentE, kCurrentE), 1.0, 1e-12);
+  // The bias counts in the rate: r - b_r = 0 leaves the straight's 1-sigma only.
+  Ekf g = hand_filter(1.0);
+  g.set_state(kBiasR, 0.2, 1e-6);
+  g.set_state(kV, 0.5, 1.0);
+  const UpdateResult q = g.update_sway(m, 0.02, 0.5, 0);
+  EXPECT_NEAR(q.nis, 0.25 / 2.0004, 1e-12);  // psi 0, c 0: S = P_vv + P_cece + 0.02^2
+}
+
+TEST(NavEkf, SwayGateRefusesOneMetrePerSecondSideways) {
+  Ekf f = hand_filter(1e-3);
+  f.set_state(kV, 1.0, 1e-3);  // v = 1 m/s, the current 0: y = -1
+  Motion m;
+  const State before = f.x();
+  const Covariance p_before = f.P();
+  // S = 1e-3 (v) + 1e-3 (c_e, psi 0) + 0.02^2: NIS = 1 / 0.0024 = 417 > 10.8.
+  const UpdateResult r = f.update_sway(m, 0.02, 0.5, 10.8);
+  EXPECT_FALSE(r.accepted);
+  EXPECT_NEAR(r.nis, 1 / 0.0024, 1e-9);
+  EXPECT_EQ(f.x(), before);
+  EXPECT_EQ(f.P(), p_before);
 }
 
 TEST(NavEkf, HeadingInnovationWrapsAcrossPi) {
@@ -377,6 +428,63 @@ TEST(NavNode, FirstFixIsTheDatumAndRunsReplayIdentically) {
   EXPECT_LT(std::hypot(oa.position[0] - sa.truth().n, oa.position[1] - sa.truth().e), 8.0);
 }
 
+// A boat in a 0.3 m/s current toward the north-east, turning now and then so that both of the
+// current's components come across: with the sway constraint the filter's current converges on
+// the truth's; without it the current is not observed (it stays 0, uncorrelated).
+TEST(NavNode, SwayConstraintEstimatesTheCurrent) {
+  const std::vector<Leg> legs = {{30, 0.0}, {30, 0.1}, {40, 0.0}, {30, -0.1},
+                                 {40, 0.0}, {30, 0.1}, {60, 0.0}};
+  const double cn = 0.3 * std::cos(deg_to_rad(45)), ce = 0.3 * std::sin(deg_to_rad(45));
+  NavParams p = usv_params();
+  p.sway.enabled = true;
+  NavNode on(p), off(usv_params());
+  Synthetic son(legs, 5), soff(legs, 5);
+  for (Synthetic* s : {&son, &soff}) {
+    s->mutable_truth().current_n = cn;
+    s->mutable_truth().current_e = ce;
+  }
+  const Stats a = fly(on, son, 20), b = fly(off, soff, 20);
+  const State& x = on.filter().x();
+  std::printf(
+      "sway constraint: current %.3f, %.3f m/s (truth %.3f, %.3f), 1-sigma %.3f; "
+      "position RMS %.3f m, heading %.3f deg (without: %.3f m, %.3f deg); %lld gated\n",
+      x(kCurrentN), x(kCurrentE), cn, ce, std::sqrt(on.filter().P()(kCurrentN, kCurrentN)),
+      a.pos_rms(), a.head_rms_deg(), b.pos_rms(), b.head_rms_deg(),
+      static_cast<long long>(on.counter_value("rejected.sway.gate")));
+  EXPECT_NEAR(x(kCurrentN), cn, 0.05);
+  EXPECT_NEAR(x(kCurrentE), ce, 0.05);
+  EXPECT_LT(on.filter().P()(kCurrentN, kCurrentN), 0.05 * 0.05);
+  EXPECT_LE(a.pos_rms(), 0.5);
+  EXPECT_LE(a.head_rms_deg(), 1.0);
+  EXPECT_LE(on.counter_value("rejected.sway.gate"), 5);
+  EXPECT_EQ(off.filter().x()(kCurrentN), 0.0);
+  EXPECT_EQ(off.filter().x()(kCurrentE), 0.0);
+  EXPECT_TRUE((off.filter().P().topRightCorner<kCoreStates, 2>().isZero(0.0)));
+  EXPECT_EQ(off.counter_value("rejected.sway.gate"), 0);
+}
+
+// With the constraint off the current states change nothing: other current settings give the
+// same odometry bit for bit (the filter's first kCoreStates run as without them).
+TEST(NavNode, WithoutTheSwayConstraintTheCurrentChangesNothing) {
+  NavParams p = usv_params();
+  NavParams q = p;
+  q.initial_current_std_mps = 2.0;
+  q.process.current = 0.1;
+  q.sway.std_mps = 0.5;  // unused while off
+  NavNode a(p), b(q);
+  const std::vector<Leg> legs = {{20, 0.0}, {20, 0.1}, {20, 0.0}};
+  Synthetic sa(legs, 9), sb(legs, 9);
+  sa.mutable_truth().current_e = sb.mutable_truth().current_e = 0.3;
+  fly(a, sa, 0);
+  fly(b, sb, 0);
+  const odometry_t &oa = a.last_odometry(), &ob = b.last_odometry();
+  for (int i = 0; i < 3; ++i) EXPECT_EQ(oa.position[i], ob.position[i]);
+  for (int i = 0; i < 6; ++i) EXPECT_EQ(oa.velocity[i], ob.velocity[i]);
+  EXPECT_EQ(oa.pose_covariance, ob.pose_covariance);
+  EXPECT_EQ(oa.velocity_covariance, ob.velocity_covariance);
+  EXPECT_EQ(a.filter().x().head<kCoreStates>(), b.filter().x().head<kCoreStates>());
+}
+
 TEST(NavConfig, ErrorsNameTheKeyAndWhatWasExpected) {
   auto error_of = [](const std::string& text) {
     try {
@@ -395,6 +503,19 @@ TEST(NavConfig, ErrorsNameTheKeyAndWhatWasExpected) {
   EXPECT_NE(error_of("rate_hz: 50\n").find("datum: missing required key"), std::string::npos);
   EXPECT_NE(error_of("datum: {latitude_deg: 91, longitude_deg: 0}\n").find("datum.latitude_deg"),
             std::string::npos);
+  EXPECT_NE(error_of("datum: first_fix\nsway: {std_mps: 0}\n").find("sway.std_mps"),
+            std::string::npos);
+  EXPECT_NE(error_of("datum: first_fix\nsway: {enabled: 3}\n").find("sway.enabled"),
+            std::string::npos);
+  EXPECT_NE(error_of("datum: first_fix\nsway: {min_speed: 1}\n").find("unknown key"),
+            std::string::npos);
+  EXPECT_NE(error_of("datum: first_fix\nprocess: {current: -1}\n").find("process.current"),
+            std::string::npos);
+  // The shipped files: on for the simulated Otter, off on a real one and on an ROV.
+  const std::string dir = std::string(TILLER_SOURCE_DIR) + "/config/nav/";
+  EXPECT_TRUE(load_nav_file(dir + "usv_sim.yaml").sway.enabled);
+  EXPECT_FALSE(load_nav_file(dir + "usv.yaml").sway.enabled);
+  EXPECT_FALSE(load_nav_file(dir + "rov.yaml").sway.enabled);
 }
 
 }  // namespace

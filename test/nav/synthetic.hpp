@@ -1,5 +1,6 @@
 // Synthetic sensor streams for tiller-nav's tests and benchmark: a boat (or ROV) on a known
-// path (straight legs and steady turns at constant speed, body FRD, heading in NED), and seeded
+// path (straight legs and steady turns at constant speed through the water, body FRD, heading in
+// NED; optionally in a constant current, the hull with no sway through the water), and seeded
 // noisy GNSS, IMU, heading and pressure messages made from it, as the drivers publish them.
 // The default noise is a 2.5 m CEP GNSS at 5 Hz (1-sigma 2.5 / 1.1774 = 2.12 m per axis) with
 // 0.1 m/s velocity noise, and a consumer IMU: gyro bias 0.005 rad/s (0.29 deg/s), gyro noise
@@ -28,7 +29,8 @@ inline constexpr double kLat0 = 59.43, kLon0 = 10.47;  // the truth's origin (WG
 
 struct Truth {
   double n = 0, e = 0, d = 0, psi = 0;  // m, rad
-  double u = 1.5, r = 0;                // m/s, rad/s (body)
+  double u = 1.5, r = 0;                // m/s, rad/s (body; u through the water, no sway)
+  double current_n = 0, current_e = 0;  // m/s, NED: the water's velocity over ground (constant)
 };
 
 struct Noise {
@@ -63,8 +65,8 @@ class Synthetic {
     for (; now_ + 1000 <= t; now_ += 1000) {
       truth_.r = rate_at(to_seconds(now_));
       const double psi_mid = truth_.psi + 0.5 * truth_.r * 1e-3;
-      truth_.n += truth_.u * std::cos(psi_mid) * 1e-3;
-      truth_.e += truth_.u * std::sin(psi_mid) * 1e-3;
+      truth_.n += (truth_.u * std::cos(psi_mid) + truth_.current_n) * 1e-3;
+      truth_.e += (truth_.u * std::sin(psi_mid) + truth_.current_e) * 1e-3;
       truth_.psi = wrap_pi(truth_.psi + truth_.r * 1e-3);
     }
     truth_.r = rate_at(to_seconds(now_));
@@ -83,8 +85,10 @@ class Synthetic {
     m.position_std[2] = 2 * noise_.gnss_std_m;
     m.accuracy_source = gnss_fix_t::ACCURACY_RECEIVER;
     m.hdop = 1.0;
-    const double vn = truth_.u * std::cos(truth_.psi) + g(noise_.gnss_velocity_std);
-    const double ve = truth_.u * std::sin(truth_.psi) + g(noise_.gnss_velocity_std);
+    const double vn =
+        truth_.u * std::cos(truth_.psi) + truth_.current_n + g(noise_.gnss_velocity_std);
+    const double ve =
+        truth_.u * std::sin(truth_.psi) + truth_.current_e + g(noise_.gnss_velocity_std);
     m.velocity_valid = true;
     m.speed = std::hypot(vn, ve);
     m.course = wrap_pi(std::atan2(ve, vn));
@@ -97,7 +101,8 @@ class Synthetic {
     m.angular_rate[0] = g(noise_.gyro_std);
     m.angular_rate[1] = g(noise_.gyro_std);
     m.angular_rate[2] = truth_.r + noise_.gyro_bias + g(noise_.gyro_std);
-    // Level, constant speed: the body's acceleration is the turn's centripetal r u, starboard.
+    // Level, constant speed: the body's acceleration is the turn's centripetal r u, starboard
+    // (a constant current adds none).
     m.specific_force[0] = noise_.accel_bias + g(noise_.accel_std);
     m.specific_force[1] = truth_.u * truth_.r - noise_.accel_bias + g(noise_.accel_std);
     m.specific_force[2] = -9.80665;

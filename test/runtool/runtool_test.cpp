@@ -142,7 +142,9 @@ TEST(RunTool, EstimatedStateMeetsTheEstimationTargetsOnTheShippedMissions) {
 // 1-sigma passes limits.velocity_std_mps at the end of the outage: the odometry is invalid
 // briefly (measured 0.2 s), the controllers give neutral meanwhile (no disarm), and when the
 // fixes return the estimate converges and the mission completes at its goal. Before the aided
-// INS the velocity went invalid 13 s in, the mixer disarmed and the boat stayed stopped.
+// INS the velocity went invalid 13 s in, the mixer disarmed and the boat stayed stopped. With the
+// sway constraint (usv_sim.yaml) the velocity stays within the limit: invalid 0 s, largest error
+// 3.1 m (the first fix's, at the start; without it 7.2 m, the outage's drift), final 0.51 m.
 TEST(RunTool, EstimatedStateCarriesOnThroughA20sGnssOutageAndRecovers) {
   RunSpec s = default_spec();
   s.sim_args = {"--odometry", "estimated", "--gnss-outage", "20:20"};
@@ -165,7 +167,9 @@ TEST(RunTool, EstimatedStateCarriesOnThroughA20sGnssOutageAndRecovers) {
 // disarm) while the estimator says invalid, and the mission resumes by itself when the odometry
 // is valid again. Before, the controllers' wrench went invalid, the mixer's gate INPUT_LOST
 // disarmed 3 s later (39.74 s on seed 0, 0.38 s before the odometry was valid again) and the
-// boat stayed stopped: 5 of these 8 seeds did not complete.
+// boat stayed stopped: 5 of these 8 seeds did not complete. Flown without the sway constraint
+// (usv_sim.yaml's sway.enabled false): with it the velocity stays within the limit through the
+// outage (odometry invalid 0 s on every one of these seeds), so the case would not happen.
 TEST(RunTool, AnOutagePastTheEstimatorsLimitGivesNeutralAndTheMissionResumes) {
   int went_invalid = 0;
   for (int seed = 0; seed < 8; ++seed) {
@@ -173,6 +177,7 @@ TEST(RunTool, AnOutagePastTheEstimatorsLimitGivesNeutralAndTheMissionResumes) {
     RunSpec s = default_spec();
     s.sim_args = {"--odometry", "estimated", "--gnss-outage",
                   "20:20",      "--seed",    std::to_string(seed)};
+    s.settings = {parse_setting("nav.sway.enabled=false")};
     const auto o = run(s);
     if (o.odometry_invalid_s > 0.5) ++went_invalid;
     EXPECT_LE(o.odometry_invalid_s, 8.0);  // s: only late in the 20 s outage (measured <= 4.4)
