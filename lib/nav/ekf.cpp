@@ -100,42 +100,32 @@ template <int M>
 UpdateResult Ekf::update(const Eigen::Matrix<double, M, 1>& y,
                          const Eigen::Matrix<double, M, kStates>& h,
                          const Eigen::Matrix<double, M, M>& r, double gate) {
+  // The current, uncorrelated and not measured, keeps its value and covariance (K's rows for it
+  // would be 0): the first kCoreStates alone, the same numbers as the 10-state filter's.
   if (current_apart() && h.template rightCols<2>().isZero(0.0))
-    return update_core<M>(y, h, r, gate);
-  const Eigen::Matrix<double, kStates, M> pht = P_ * h.transpose();
-  const Eigen::Matrix<double, M, M> s = h * pht + r;
-  const Eigen::Matrix<double, M, M> s_inv = s.inverse();
-  UpdateResult out;
-  out.nis = y.dot(s_inv * y);
-  if (!std::isfinite(out.nis) || (gate > 0 && out.nis > gate)) return out;
-  const Eigen::Matrix<double, kStates, M> k = pht * s_inv;
-  x_ += k * y;
-  x_(kPsi) = wrap_pi(x_(kPsi));
-  const Covariance ikh = Covariance::Identity() - k * h;
-  P_ = ikh * P_ * ikh.transpose() + k * r * k.transpose();  // Joseph form: stays symmetric PSD
-  out.accepted = true;
-  return out;
+    return update_first<kCore, M>(y, h, r, gate);
+  return update_first<kStates, M>(y, h, r, gate);
 }
 
-// The same update on the first kCoreStates: the current, uncorrelated and not measured, keeps
-// its value and covariance (K's rows for it would be 0).
-template <int M>
-UpdateResult Ekf::update_core(const Eigen::Matrix<double, M, 1>& y,
-                              const Eigen::Matrix<double, M, kStates>& hf,
-                              const Eigen::Matrix<double, M, M>& r, double gate) {
-  const CoreCovariance p = P_.topLeftCorner<kCore, kCore>();
-  const Eigen::Matrix<double, M, kCore> h = hf.template leftCols<kCore>();
-  const Eigen::Matrix<double, kCore, M> pht = p * h.transpose();
+template <int N, int M>
+UpdateResult Ekf::update_first(const Eigen::Matrix<double, M, 1>& y,
+                               const Eigen::Matrix<double, M, kStates>& hf,
+                               const Eigen::Matrix<double, M, M>& r, double gate) {
+  using Square = Eigen::Matrix<double, N, N>;
+  const Square p = P_.template topLeftCorner<N, N>();
+  const Eigen::Matrix<double, M, N> h = hf.template leftCols<N>();
+  const Eigen::Matrix<double, N, M> pht = p * h.transpose();
   const Eigen::Matrix<double, M, M> s = h * pht + r;
   const Eigen::Matrix<double, M, M> s_inv = s.inverse();
   UpdateResult out;
   out.nis = y.dot(s_inv * y);
   if (!std::isfinite(out.nis) || (gate > 0 && out.nis > gate)) return out;
-  const Eigen::Matrix<double, kCore, M> k = pht * s_inv;
-  x_.head<kCore>() += k * y;
+  const Eigen::Matrix<double, N, M> k = pht * s_inv;
+  x_.template head<N>() += k * y;
   x_(kPsi) = wrap_pi(x_(kPsi));
-  const CoreCovariance ikh = CoreCovariance::Identity() - k * h;
-  P_.topLeftCorner<kCore, kCore>() = ikh * p * ikh.transpose() + k * r * k.transpose();
+  const Square ikh = Square::Identity() - k * h;
+  // Joseph form: stays symmetric PSD.
+  P_.template topLeftCorner<N, N>() = ikh * p * ikh.transpose() + k * r * k.transpose();
   out.accepted = true;
   return out;
 }

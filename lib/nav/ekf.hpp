@@ -123,10 +123,12 @@ class Ekf {
   UpdateResult update(const Eigen::Matrix<double, M, 1>& y,
                       const Eigen::Matrix<double, M, kStates>& h,
                       const Eigen::Matrix<double, M, M>& r, double gate);
-  template <int M>
-  UpdateResult update_core(const Eigen::Matrix<double, M, 1>& y,
-                           const Eigen::Matrix<double, M, kStates>& h,
-                           const Eigen::Matrix<double, M, M>& r, double gate);
+  // The update on the first N states (N = kStates: all of them; kCoreStates: the current left as
+  // it is, for an h without current columns while the current is uncorrelated).
+  template <int N, int M>
+  UpdateResult update_first(const Eigen::Matrix<double, M, 1>& y,
+                            const Eigen::Matrix<double, M, kStates>& h,
+                            const Eigen::Matrix<double, M, M>& r, double gate);
   void set_block(int index, int n, double variance);
   // True while the current's covariance has no correlation with the other states.
   bool current_apart() const;
