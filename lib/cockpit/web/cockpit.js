@@ -304,6 +304,13 @@ drop.ondragover = (e) => { e.preventDefault(); drop.classList.add('over'); };
 drop.ondragleave = () => drop.classList.remove('over');
 drop.ondrop = (e) => { e.preventDefault(); drop.classList.remove('over'); if (e.dataTransfer.files[0]) loadFile(e.dataTransfer.files[0]); };
 
-showToken();
-connect();
-setInterval(padTick, 50);
+// Start once every script of the page has run: plots.js and panels.js define what the ticks and
+// the frames call, and a timer can fire while the parser still waits for them to load (seen in CI
+// under load: "renderCalibration is not defined").
+function start() {
+  showToken();
+  connect();
+  setInterval(padTick, 50);
+}
+if (document.readyState === 'loading') document.addEventListener('DOMContentLoaded', start);
+else start();
