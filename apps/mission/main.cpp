@@ -14,9 +14,11 @@
 #include <cstdlib>
 #include <iostream>
 #include <limits>
+#include <utility>
 
 #include "mission/mission.hpp"
 #include "mission/mission_node.hpp"
+#include "mission/start_gate_options.hpp"
 #include "runtime/app.hpp"
 #include "runtime/channels.hpp"
 #include "runtime/live.hpp"
@@ -50,24 +52,22 @@ void send(tiller::LiveExecutor& ex, const char* channel, const Msg& m) {
 
 int main(int argc, char** argv) {
   using namespace tiller;
-  const auto args = app::parse(
-      argc, argv,
-      {"tiller-mission",
-       "Publishes a mission's path and the waypointing mode, one arm request and, once armed, "
-       "the operator's START; or sends one operator command (--command).",
-       "",
-       {{"mission", "FILE", "mission file (.yaml or .csv)", "config/missions/default.yaml"},
-        {"path-id", "N",
-         "path id, a whole number >= 0 (default: the start time in us, so each run is a new path)",
-         ""},
-        {"repeat-s", "S", "repeat period, s >= 0; 0 = publish once and exit", "1"},
-        {"start-wait-s", "S", "with --repeat-s 0: how long to wait for arming, s", "3"},
-        {"no-arm", "", "do not send the arm request (START still waits for arming)", ""},
-        {"start-std-m", "M",
-         "wait (publish nothing) until the estimate is valid with position 1-sigma <= M m", ""},
-        {"start-settle-s", "S", "... and has been for S s (default 0; alone: M = 0.5)", ""},
-        {"command", "NAME", "send pause, resume, abort or release and exit", ""}},
-       false});  // no config file: the mission is --mission FILE
+  app::Spec spec{
+      "tiller-mission",
+      "Publishes a mission's path and the waypointing mode, one arm request and, once armed, "
+      "the operator's START; or sends one operator command (--command).",
+      "",
+      {{"mission", "FILE", "mission file (.yaml or .csv)", "config/missions/default.yaml"},
+       {"path-id", "N",
+        "path id, a whole number >= 0 (default: the start time in us, so each run is a new path)",
+        ""},
+       {"repeat-s", "S", "repeat period, s >= 0; 0 = publish once and exit", "1"},
+       {"start-wait-s", "S", "with --repeat-s 0: how long to wait for arming, s", "3"},
+       {"no-arm", "", "do not send the arm request (START still waits for arming)", ""},
+       {"command", "NAME", "send pause, resume, abort or release and exit", ""}},
+      false};  // no config file: the mission is --mission FILE
+  for (auto& o : mission::start_gate_options()) spec.options.push_back(std::move(o));
+  const auto args = app::parse(argc, argv, spec);
 
   return app::guarded_main("tiller-mission", [&] {
     const std::string command = args.get("command");
@@ -111,16 +111,7 @@ int main(int argc, char** argv) {
         args.get("path-id").empty()
             ? -1
             : app::integer_option(args, "path-id", 0, INT64_MAX, "a whole number >= 0 (int64)");
-    mission::StartGateParams gate;
-    if (!args.get("start-std-m").empty() || !args.get("start-settle-s").empty()) {
-      gate.enabled = true;
-      if (!args.get("start-std-m").empty())
-        gate.max_position_std_m = app::number_option(args, "start-std-m", 1e-3, 1e3,
-                                                     "a number of metres in [0.001, 1000]");
-      if (!args.get("start-settle-s").empty())
-        gate.settle_s =
-            app::number_option(args, "start-settle-s", 0, 3600, "a number of seconds in [0, 3600]");
-    }
+    const mission::StartGateParams gate = mission::start_gate_params(args);
     const auto m = mission::load_mission_file(args.get("mission"));
     if (id < 0) id = wall_time_us();
     std::cout << "tiller-mission: " << m.name << ": " << m.waypoints.size()

@@ -14,6 +14,7 @@
 #include <utility>
 
 #include "core/angles.hpp"
+#include "mission/start_gate_options.hpp"
 #include "runtime/app.hpp"
 #include "runtool/run.hpp"
 #include "runtool/sweep.hpp"
@@ -46,9 +47,6 @@ app::Spec spec() {
        {"hold-s", "S", "station keeping after completion, s >= 0 (default: the mission's)", ""},
        {"time-limit-s", "S", "simulated time limit, s > 0 (default: the mission's)", ""},
        {"settle-s", "S", "the simulator (and tiller-nav) alone for S s before the mission", ""},
-       {"start-std-m", "M",
-        "start gate: the mission waits for a valid estimate with position 1-sigma <= M m", ""},
-       {"start-settle-s", "S", "start gate: ... held for S s (default 0; alone: M = 0.5)", ""},
        {"log", "FILE", "write the run's LCM log here (and FILE's .replay.yaml)", ""},
        {"sweep", "AXIS", "NAME=FROM:TO:COUNT or NAME=V1,V2,... (see docs/tuning.md)", ""},
        {"sweep2", "AXIS", "a second axis: every combination of the two", ""},
@@ -62,6 +60,7 @@ app::Spec spec() {
     for (const auto& o : sim)
       if (o.name == f) s.options.push_back(o);
   }
+  for (auto& o : mission::start_gate_options()) s.options.push_back(std::move(o));
   s.arguments = "MISSION_FILE";
   s.max_positional = 1;
   return s;
@@ -100,15 +99,7 @@ runtool::RunSpec run_spec(const app::Args& a) {
         app::number_option(a, "time-limit-s", 1e-3, 1e6, "a number of seconds in [0.001, 1e6]");
   if (!a.get("settle-s").empty())
     s.settle_s = app::number_option(a, "settle-s", 0, 1e6, "a number of seconds in [0, 1e6]");
-  if (!a.get("start-std-m").empty() || !a.get("start-settle-s").empty()) {
-    s.start_gate.enabled = true;
-    if (!a.get("start-std-m").empty())
-      s.start_gate.max_position_std_m =
-          app::number_option(a, "start-std-m", 1e-3, 1e3, "a number of metres in [0.001, 1000]");
-    if (!a.get("start-settle-s").empty())
-      s.start_gate.settle_s =
-          app::number_option(a, "start-settle-s", 0, 3600, "a number of seconds in [0, 3600]");
-  }
+  s.start_gate = mission::start_gate_params(a);
   s.log_file = a.get("log");
   return s;
 }

@@ -117,6 +117,9 @@ TEST(MissionTool, BadFlagsNameTheFlagAndTheExpectedValue) {
       {"--path-id 12x", "--path-id: expected a whole number >= 0 (int64), got '12x'"},
       {"--path-id 99999999999999999999",
        "--path-id: expected a whole number >= 0 (int64), got '99999999999999999999'"},
+      {"--start-std-m x", "--start-std-m: expected a number of metres in [0.001, 1000], got 'x'"},
+      {"--start-settle-s -1",
+       "--start-settle-s: expected a number of seconds in [0, 3600], got '-1'"},
       {"--config config/missions/default.yaml",
        "--config is not taken: tiller-mission has no config file"},
   };
