@@ -39,7 +39,9 @@ const std::string kSrc = TILLER_SOURCE_DIR;
 //     estimate wanders across the path at 0.01 to 1 Hz with the GNSS's noise, mostly its
 //     velocity noise (0.05 m/s at 5 Hz) integrated into the position: 1.62x without the sway
 //     constraint, 1.54x with it at 0.02 m/s (over-confident in an outage), 1.23x with a GNSS
-//     velocity ten times cleaner (docs/navigation.md). Every other mission and current: <= 1.31x.
+//     velocity ten times cleaner, 1.48x (seeds 0, 2, 3: 2.00, 1.60, 1.57x) with a perfect IMU
+//     and heading: a floor set by the receiver (docs/navigation.md, "The floor under
+//     long_course's ratio"). Every other mission and current: <= 1.31x.
 //   * truth missed, long_course in a current toward 135, 180, 225 deg: the estimate passes within
 //     the 1 m visit radius, the boat (0.28 m estimation RMS, up to 1 m at times) just outside.
 //     Misses are counted beyond the truth run's of the same drifted start (vrx_wayfinding toward
