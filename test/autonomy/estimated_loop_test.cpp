@@ -35,10 +35,10 @@ const std::string kSrc = TILLER_SOURCE_DIR;
 // with the sway constraint, every estimated run behind the start gate at 0.3 m; still water, the
 // worst of the 8 directions), asserted with a 10 % margin; 0: the target holds there.
 //   * estimate cross-track ratio, long_course in still water (1.58x): the truth run's
-//     cross-track is 0.042 m, nearly all at the corners (0.004 m on the straights), while the
+//     cross-track is 0.042 m, nearly all at the corners (0.0004 m on the straights), while the
 //     estimate wanders across the path at 0.01 to 1 Hz with the GNSS's noise, mostly its
 //     velocity noise (0.05 m/s at 5 Hz) integrated into the position: 1.62x without the sway
-//     constraint, 1.54x with it at 0.02 m/s (over-confident in an outage), 1.23x with a GNSS
+//     constraint, 1.54x with it at 0.02 m/s (over-confident in an outage), 1.29x with a GNSS
 //     velocity ten times cleaner, 1.48x (seeds 0, 2, 3: 2.00, 1.60, 1.57x) with a perfect IMU
 //     and heading: a floor set by the receiver (docs/navigation.md, "The floor under
 //     long_course's ratio"). Every other mission and current: <= 1.31x.
