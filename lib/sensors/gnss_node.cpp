@@ -255,6 +255,18 @@ void GnssNode::on_tick(TimeUs now) {
   update_health(now);
 }
 
+std::string GnssNode::summary() const {
+  static const char* const kType[] = {"no fix",    "2D fix",    "3D fix",        "DGPS fix",
+                                      "RTK float", "RTK fixed", "dead reckoning"};
+  static const char* const kSource[] = {"unknown", "gpsd DOP model", "receiver GST"};
+  char b[160];
+  std::snprintf(b, sizeof b, ": %s, %d satellites, HDOP %.1f, %.1f m 1-sigma (%s)",
+                kType[std::clamp<int>(msg_.fix_type, 0, 6)], msg_.satellites, msg_.hdop,
+                std::max(msg_.position_std[0], msg_.position_std[1]),
+                kSource[std::clamp<int>(msg_.accuracy_source, 0, 2)]);
+  return "fix from gpsd at " + p_.host + ":" + p_.port + b;
+}
+
 void GnssNode::update_health(TimeUs now) {
   if (!link_problem_.empty()) {
     set_health(heartbeat_t::STATE_FAULT, link_problem_);
@@ -264,7 +276,7 @@ void GnssNode::update_health(TimeUs now) {
   } else if (!last_had_fix_) {
     set_health(heartbeat_t::STATE_DEGRADED, "gpsd reports no fix");
   } else {
-    set_health(heartbeat_t::STATE_OK, "fix from gpsd at " + p_.host + ":" + p_.port);
+    set_health(heartbeat_t::STATE_OK, summary());
   }
 }
 

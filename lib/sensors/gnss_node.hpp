@@ -87,6 +87,7 @@ class GnssNode : public Node {
   void flush(TimeUs now);  // publishes the held epoch, if any, through the checks
   void accept(TimeUs now);
   void update_health(TimeUs now);
+  std::string summary() const;  // the heartbeat's status while fixes arrive
   void say_once(int kind, const std::string& what);
   GnssParams p_;
   gnss_fix_t msg_{};

@@ -162,7 +162,7 @@ std::string play(const std::vector<Epoch>& epochs, const std::string& port, doub
   for (int i = 0; i < 100 && !done; ++i) {
     done = waitpid(fake, nullptr, WNOHANG) == fake;
     if (!done) usleep(20'000);
-    if (i == 50) kill(fake, SIGTERM);
+    if (i == 5) kill(fake, SIGTERM);
   }
   if (!done) {
     kill(fake, SIGKILL);
