@@ -94,6 +94,12 @@ TEST(GnssGpsd, FixesFromARealGpsdCarryTheNmeaValues) {
   EXPECT_EQ((f.gnss_utime / 1'000'000 - 1'796'126'400) / 60, 0) << f.gnss_utime;
   EXPECT_EQ(f.gnss_utime % 1'000'000, 0);
   EXPECT_EQ(node.counter_value("fixes"), static_cast<std::int64_t>(out.fixes.size()));
+  // The pilot's view (issue 31): fix type, satellites, HDOP and the 1-sigma error in the heartbeat.
+  node.tick(wall_time_us());
+  EXPECT_EQ(out.hb.state, heartbeat_t::STATE_OK);
+  EXPECT_NE(out.hb.status.find("3D fix, 9 satellites, HDOP 0.9, 1.5 m 1-sigma (receiver GST)"),
+            std::string::npos)
+      << out.hb.status;
   // One message per epoch (the file has 5, 1 s apart), in time order: a report that is not a TPV
   // (SKY, GST) is not published as the last fix again.
   TimeUs last = 0;
