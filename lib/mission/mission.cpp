@@ -141,8 +141,11 @@ void finish_items(Mission& m, const std::string& file, const std::optional<GeoPo
   }
   if (!m.home && m.start) m.home_point = *m.start;
   m.waypoints.clear();
-  for (const auto& it : m.items)
+  for (const auto& it : m.items) {
     if (it.has_point) m.waypoints.push_back(it.point);
+    // Home is where a return goes without rally points (with them: the nearest, at run time).
+    if (it.kind == ItemKind::kReturnHome && m.rally.empty()) m.waypoints.push_back(m.home_point);
+  }
   if (!m.start) {
     m.start = m.home_point;
     m.start->has_heading = false;

@@ -3,6 +3,7 @@
 #include <tiller/arm_request_t.hpp>
 #include <tiller/controller_mode_t.hpp>
 #include <tiller/mission_command_t.hpp>
+#include <tiller/path_speed_t.hpp>
 
 #include <algorithm>
 
@@ -30,6 +31,7 @@ MissionNode::MissionNode(const Mission& m, std::int64_t path_id, TimeUs repeat_p
     base_id_ = path_id;
     position_ = m.start ? *m.start : m.home_point;
     subscribe(channels::kPathProgress, &MissionNode::on_progress);
+    advertise<path_speed_t>(channels::kPathSpeed);
     fence_breaches_ = &counter("fence.breaches");
   }
   if (gate.enabled || seq_) subscribe(channels::kOdometry, &MissionNode::on_odometry);
@@ -107,6 +109,9 @@ void MissionNode::act(Sequencer::Action a, TimeUs now) {
         path_.waypoints.push_back(x);
       }
       path_.n_waypoints = static_cast<std::int32_t>(path_.waypoints.size());
+      speed_.path_id = path_.path_id;
+      speed_.speed = leg.speeds;
+      speed_.n_segments = static_cast<std::int32_t>(speed_.speed.size());
       publish_path(now);
       return;
     }
@@ -147,6 +152,10 @@ void MissionNode::on_tick(TimeUs now) {
 
 void MissionNode::publish_path(TimeUs now) {
   last_sent_ = now;
+  if (seq_) {  // the speeds first: the follower has them when the path starts
+    speed_.utime = now;
+    publish(channels::kPathSpeed, speed_);
+  }
   path_.utime = now;
   publish(channels::kPath, path_);
   controller_mode_t mode{};

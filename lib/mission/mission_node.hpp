@@ -15,7 +15,8 @@
 // to act on (docs/safety.md).
 // A mission with items (loiter, return home, stop, speed, jump, fence; mission/sequencer.hpp)
 // is flown as legs: each leg a new path_id (path_id, path_id + 1, ...), published when it
-// begins and repeated like a plain path; it subscribes TILLER_PATH_PROGRESS (a leg complete) and
+// begins and repeated like a plain path, each time after its speeds (TILLER_PATH_SPEED,
+// path_speed_t: the legs' speed changes, 0 = the follower's max_speed); it subscribes TILLER_PATH_PROGRESS (a leg complete) and
 // TILLER_ODOMETRY (where the first leg starts, the run-time fence). Hold is an operator ABORT,
 // stop an operator RELEASE (the mixer disarms), each sent once (command ids from path_id +
 // kCommandIdOffset); the heartbeat's status says what the mission does (DEGRADED after a fence
@@ -25,6 +26,7 @@
 #include <tiller/arm_state_t.hpp>
 #include <tiller/odometry_t.hpp>
 #include <tiller/path_progress_t.hpp>
+#include <tiller/path_speed_t.hpp>
 #include <tiller/path_t.hpp>
 
 #include <memory>
@@ -80,6 +82,7 @@ class MissionNode : public Node {
   bool have_position_ = false;
   MissionPoint position_;
   std::int64_t* fence_breaches_ = nullptr;
+  path_speed_t speed_{};
 };
 
 }  // namespace tiller::mission

@@ -46,6 +46,11 @@ Sequencer::Action Sequencer::build(const MissionPoint& from, TimeUs now) {
   leg_.speeds.assign(1, speed_);
   after_ = State::kHolding;  // the items run out: hold the last point
   const auto push = [&](const MissionPoint& p) {
+    const MissionPoint& last = leg_.points.back();
+    if (std::hypot(p.north - last.north, p.east - last.east) < kSamePointM) {
+      leg_.points.back() = p;  // the same point (its heading, if any): no zero-length segment
+      return;
+    }
     leg_.points.push_back(p);
     leg_.speeds.push_back(speed_);
   };

@@ -12,7 +12,7 @@
 // Stop means an operator RELEASE: the follower drops the path and the mixer disarms (neutral),
 // the one existing path (docs/safety.md). Speeds: speeds[k] is the along-path speed of the
 // segment from point k (m/s; 0: the follower's max_speed), from the latest speed item before it.
-// Jumps: a jump with repeats left goes on at its target within the same leg (a leg is capped at
+// Consecutive points within kSamePointM are one. Jumps: a jump with repeats left goes on at its target within the same leg (a leg is capped at
 // kMaxLegPoints: a jump for ever flies leg after leg).
 // Fence: on_position() with the vehicle outside the fence (mission/fence.hpp) while the mission
 // runs triggers fence_action once: hold (an operator ABORT: hold where the vehicle is), return
@@ -36,6 +36,9 @@ struct Leg {
 class Sequencer {
  public:
   static constexpr std::size_t kMaxLegPoints = 1000;
+  // A point this near the previous one replaces it: no zero-length segment, which the follower
+  // would merge away (min_segment_length) and so shift the speeds' segment numbers.
+  static constexpr double kSamePointM = 0.1;
   enum class Action { kNone, kNewLeg, kHold, kStop };
   enum class State { kIdle, kFlying, kLoitering, kHolding, kStopped, kFenceHold };
 

@@ -64,7 +64,7 @@ TEST(PlanFile, TheHarbourPlanAsQGroundControlWroteIt) {
   EXPECT_DOUBLE_EQ(m.items[3].loiter_s, 10);
   // The fixture's points were placed with the arc lengths above: within 2 cm of the metres.
   const double expect[][2] = {{30, 0}, {30, 25}, {10, 25}, {10, 5}};
-  ASSERT_EQ(m.waypoints.size(), 4u);
+  ASSERT_EQ(m.waypoints.size(), 5u);  // and home, where the return goes
   for (int k = 0; k < 4; ++k) {
     EXPECT_NEAR(m.waypoints[k].north, expect[k][0], 0.02) << k;
     EXPECT_NEAR(m.waypoints[k].east, expect[k][1], 0.02) << k;
