@@ -80,8 +80,8 @@ class PathFollowerNode : public Node {
   std::int64_t* bad_command_ = nullptr;       // made on first use
   std::int64_t* dropped_repeats_ = nullptr;   // made on first use
   std::int64_t* invalid_path_;
-  int last_segment_ = 0;   // the follower's segment at its last update
-  path_speed_t speeds_{};  // the latest speeds (path_id -1: none)
+  int last_segment_ = 0;               // the follower's segment at its last update
+  path_speed_t speeds_{};              // the latest speeds (path_id -1: none)
   std::int64_t* bad_speed_ = nullptr;  // made on first use
   std::int64_t* paths_started_;
 };

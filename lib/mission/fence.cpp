@@ -54,8 +54,7 @@ void check_items(const Mission& m, const std::string& file) {
       const int b = fence_breach(m.fence, it.point.north, it.point.east);
       if (b >= 0) {
         char at[64];
-        std::snprintf(at, sizeof at, " (%.1f m north, %.1f m east)", it.point.north,
-                      it.point.east);
+        std::snprintf(at, sizeof at, " (%.1f m north, %.1f m east)", it.point.north, it.point.east);
         throw config::Error(where(it) + ": the point" + at + " is " +
                             (m.fence[b].inclusion ? "outside" : "inside") + " the fence (" +
                             describe_shape(m.fence, b) + ")");
@@ -65,7 +64,8 @@ void check_items(const Mission& m, const std::string& file) {
     if (it.jump_to < 0 || it.jump_to >= static_cast<int>(m.items.size()))
       throw config::Error(where(it) + ": jump to an item that is not in the mission");
     bool point = false;  // a jump back must pass a point, or it loops on the spot
-    for (int j = std::min<int>(it.jump_to, static_cast<int>(k)); j <= std::max<int>(it.jump_to, static_cast<int>(k)); ++j)
+    for (int j = std::min<int>(it.jump_to, static_cast<int>(k));
+         j <= std::max<int>(it.jump_to, static_cast<int>(k)); ++j)
       point |= m.items[j].has_point;
     if (!point) throw config::Error(where(it) + ": the jump passes no point (an endless loop)");
   }

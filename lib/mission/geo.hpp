@@ -1,6 +1,7 @@
 // Lat/lon (WGS84) to the local frame and back, with GeographicLib's LocalCartesian (Debian
-// libgeographiclib-dev; https://geographiclib.sourceforge.io/C++/doc/classGeographicLib_1_1LocalCartesian.html):
-// local NED metres about a datum (north, east; down ignored: a boat's altitude is the water's).
+// libgeographiclib-dev;
+// https://geographiclib.sourceforge.io/C++/doc/classGeographicLib_1_1LocalCartesian.html): local
+// NED metres about a datum (north, east; down ignored: a boat's altitude is the water's).
 // localise() converts every lat/lon a mission holds (items, fence, rally points, home) and
 // rewrites Mission::waypoints from the items; the datum is kept in Mission::datum.
 #pragma once

@@ -34,7 +34,9 @@ void load_place(const config::Value& v, MissionPoint& p, std::optional<GeoPoint>
   p.east = v.number("east", {-1e6, 1e6});
 }
 
-bool has_place(const config::Value& v) { return v.has("lat") || v.has("north"); }
+bool has_place(const config::Value& v) {
+  return v.has("lat") || v.has("north");
+}
 
 std::vector<FenceShape> load_shapes(const config::Value& list, bool inclusion) {
   std::vector<FenceShape> out;
@@ -117,7 +119,7 @@ void load_items(const config::Value& root, Mission& m) {
   }
   if (auto f = root.find("fence")) {
     const std::string a = f->choice_or("action", "hold", {"hold", "return", "neutral"});
-    m.fence_action = a == "hold" ? FenceAction::kHold
+    m.fence_action = a == "hold"     ? FenceAction::kHold
                      : a == "return" ? FenceAction::kReturn
                                      : FenceAction::kNeutral;
     for (const char* kind : {"inclusion", "exclusion"})
@@ -137,8 +139,9 @@ void load_items(const config::Value& root, Mission& m) {
     }
     if (!m.rally_geo.empty() && !m.rally.empty()) r->fail("every point in lat/lon or in metres");
   }
-  m.return_end = root.choice_or("return_end", "hold", {"hold", "stop"}) == "hold" ? ReturnEnd::kHold
-                                                                                 : ReturnEnd::kStop;
+  m.return_end = root.choice_or("return_end", "hold", {"hold", "stop"}) == "hold"
+                     ? ReturnEnd::kHold
+                     : ReturnEnd::kStop;
 }
 
 }  // namespace tiller::mission

@@ -51,15 +51,15 @@ enum class ItemKind {
 };
 struct Item {
   ItemKind kind = ItemKind::kWaypoint;
-  int index = 0;        // the item's index in its file (0-based, a survey's items share its own)
-  int command = 0;      // MAVLink MAV_CMD (.plan), 0 for our YAML
+  int index = 0;    // the item's index in its file (0-based, a survey's items share its own)
+  int command = 0;  // MAVLink MAV_CMD (.plan), 0 for our YAML
   bool has_point = false;
-  MissionPoint point;   // local NED m (from geo by localise())
+  MissionPoint point;           // local NED m (from geo by localise())
   std::optional<GeoPoint> geo;  // the point as given in lat/lon
-  double loiter_s = -1;  // kLoiter
-  double speed = 0;      // kSpeed
-  int jump_to = 0;       // kJump: index into Mission::items
-  int repeat = 0;        // kJump
+  double loiter_s = -1;         // kLoiter
+  double speed = 0;             // kSpeed
+  int jump_to = 0;              // kJump: index into Mission::items
+  int repeat = 0;               // kJump
 };
 // A geofence shape: a polygon (>= 3 vertices) or a circle, in local NED m after localise().
 struct FenceShape {
@@ -91,10 +91,10 @@ struct Mission {
   std::vector<FenceShape> fence;
   FenceAction fence_action = FenceAction::kHold;
   ReturnEnd return_end = ReturnEnd::kHold;
-  std::vector<MissionPoint> rally;      // local m
-  std::vector<GeoPoint> rally_geo;      // as given
-  std::optional<GeoPoint> datum;        // the datum localise() used (empty: all in metres)
-  bool geodetic() const;                // anything given in lat/lon
+  std::vector<MissionPoint> rally;  // local m
+  std::vector<GeoPoint> rally_geo;  // as given
+  std::optional<GeoPoint> datum;    // the datum localise() used (empty: all in metres)
+  bool geodetic() const;            // anything given in lat/lon
 };
 
 // Loads a .yaml/.yml, .csv or QGroundControl .plan mission file; throws config::Error naming the

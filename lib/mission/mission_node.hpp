@@ -16,11 +16,11 @@
 // A mission with items (loiter, return home, stop, speed, jump, fence; mission/sequencer.hpp)
 // is flown as legs: each leg a new path_id (path_id, path_id + 1, ...), published when it
 // begins and repeated like a plain path, each time after its speeds (TILLER_PATH_SPEED,
-// path_speed_t: the legs' speed changes, 0 = the follower's max_speed); it subscribes TILLER_PATH_PROGRESS (a leg complete) and
-// TILLER_ODOMETRY (where the first leg starts, the run-time fence). Hold is an operator ABORT,
-// stop an operator RELEASE (the mixer disarms), each sent once (command ids from path_id +
-// kCommandIdOffset); the heartbeat's status says what the mission does (DEGRADED after a fence
-// breach, counted in fence.breaches).
+// path_speed_t: the legs' speed changes, 0 = the follower's max_speed); it subscribes
+// TILLER_PATH_PROGRESS (a leg complete) and TILLER_ODOMETRY (where the first leg starts, the
+// run-time fence). Hold is an operator ABORT, stop an operator RELEASE (the mixer disarms), each
+// sent once (command ids from path_id + kCommandIdOffset); the heartbeat's status says what the
+// mission does (DEGRADED after a fence breach, counted in fence.breaches).
 #pragma once
 
 #include <tiller/arm_state_t.hpp>

@@ -102,7 +102,7 @@ void simple_item(Ctx& c, const json& j, const std::string& where, int index) {
       it.repeat = static_cast<int>(p[1]);
       c.jumps.emplace_back(c.m.items.size(), static_cast<long>(p[0]));
       break;
-    case 178:  // DO_CHANGE_SPEED
+    case 178:                  // DO_CHANGE_SPEED
       if (p[1] == -1) return;  // no change
       if (!(p[1] == -2 || (p[1] > 0 && p[1] <= 20)))
         fail(at, "expected params[1] a speed in (0, 20] m/s, -1 (no change) or -2 (default)");
@@ -153,7 +153,8 @@ Mission parse_plan(const std::string& text, const std::string& file) {
     fail(file, "expected a QGroundControl plan (fileType \"Plan\")");
   if (root.value("version", 0) != 1) fail(file, "version: expected 1 (the .plan format)");
   Mission m;
-  m.name = file.substr(file.find_last_of('/') == std::string::npos ? 0 : file.find_last_of('/') + 1);
+  m.name =
+      file.substr(file.find_last_of('/') == std::string::npos ? 0 : file.find_last_of('/') + 1);
   m.description = "QGroundControl plan";
   m.time_limit_s = 3600;
   Ctx c{file, m, {}, {}};
@@ -186,7 +187,8 @@ Mission parse_plan(const std::string& text, const std::string& file) {
     FenceShape s;
     s.inclusion = p.value("inclusion", true);
     const std::string where = file + ": geoFence.polygons[" + std::to_string(m.fence.size()) + "]";
-    for (const auto& v : p.value("polygon", json::array())) s.geo_polygon.push_back(lat_lon(v, where));
+    for (const auto& v : p.value("polygon", json::array()))
+      s.geo_polygon.push_back(lat_lon(v, where));
     if (s.geo_polygon.size() < 3) fail(where, "expected a polygon of >= 3 [lat, lon] vertices");
     m.fence.push_back(s);
   }

@@ -127,8 +127,8 @@ Sequencer::Action Sequencer::on_leg_complete(TimeUs now) {
     case State::kLoitering:
       state_ = State::kLoitering;
       loiter_until_ = now + from_seconds(loiter_s_);
-      status_ = "loitering " + std::to_string(static_cast<int>(std::lround(loiter_s_))) +
-                " s at " + where(leg_.points.back());
+      status_ = "loitering " + std::to_string(static_cast<int>(std::lround(loiter_s_))) + " s at " +
+                where(leg_.points.back());
       return Action::kNone;
     case State::kStopped:
       state_ = State::kStopped;

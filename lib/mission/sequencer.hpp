@@ -12,11 +12,11 @@
 // Stop means an operator RELEASE: the follower drops the path and the mixer disarms (neutral),
 // the one existing path (docs/safety.md). Speeds: speeds[k] is the along-path speed of the
 // segment from point k (m/s; 0: the follower's max_speed), from the latest speed item before it.
-// Consecutive points within kSamePointM are one. Jumps: a jump with repeats left goes on at its target within the same leg (a leg is capped at
-// kMaxLegPoints: a jump for ever flies leg after leg).
-// Fence: on_position() with the vehicle outside the fence (mission/fence.hpp) while the mission
-// runs triggers fence_action once: hold (an operator ABORT: hold where the vehicle is), return
-// (a leg home from there, then return_end) or neutral (stop). status() says what happened.
+// Consecutive points within kSamePointM are one. Jumps: a jump with repeats left goes on at its
+// target within the same leg (a leg is capped at kMaxLegPoints: a jump for ever flies leg after
+// leg). Fence: on_position() with the vehicle outside the fence (mission/fence.hpp) while the
+// mission runs triggers fence_action once: hold (an operator ABORT: hold where the vehicle is),
+// return (a leg home from there, then return_end) or neutral (stop). status() says what happened.
 // Pure logic: told progress, positions and times, no clock; allocation only when a leg is built.
 #pragma once
 

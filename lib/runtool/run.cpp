@@ -227,8 +227,7 @@ RunOutcome run(const RunSpec& spec) {
         ch == channels::kPathProgress) {
       scored.push_back(Event{ch, t, std::vector<std::uint8_t>(d, d + n)});
       if (ch == channels::kPathProgress && seq == nullptr && !out.completed &&
-          pr.decode(d, 0, n) == n &&
-          pr.complete) {
+          pr.decode(d, 0, n) == n && pr.complete) {
         out.completed = true;
         out.completed_at = to_seconds(t);
       }

@@ -13,7 +13,9 @@
 namespace tiller::mission {
 namespace {
 
-std::string src(const std::string& rel) { return std::string(TILLER_SOURCE_DIR) + "/" + rel; }
+std::string src(const std::string& rel) {
+  return std::string(TILLER_SOURCE_DIR) + "/" + rel;
+}
 
 std::string write_tmp(const std::string& name, const std::string& text) {
   const std::string path = ::testing::TempDir() + name;
@@ -50,8 +52,8 @@ TEST(Geodesy, AMilliDegreeOfLatitudeIsTheMeridianArc) {
 TEST(PlanFile, TheHarbourPlanAsQGroundControlWroteIt) {
   const auto m = load_mission_file(src("config/missions/harbour.plan"));
   ASSERT_EQ(m.items.size(), 7u);
-  const ItemKind kinds[] = {ItemKind::kSpeed,  ItemKind::kWaypoint, ItemKind::kWaypoint,
-                            ItemKind::kLoiter, ItemKind::kSpeed,    ItemKind::kWaypoint,
+  const ItemKind kinds[] = {ItemKind::kSpeed,     ItemKind::kWaypoint, ItemKind::kWaypoint,
+                            ItemKind::kLoiter,    ItemKind::kSpeed,    ItemKind::kWaypoint,
                             ItemKind::kReturnHome};
   const int commands[] = {178, 16, 16, 19, 178, 16, 20};
   for (int k = 0; k < 7; ++k) {
@@ -114,7 +116,7 @@ TEST(PlanFile, LoiterUnlimitedAndAnInclusionCircle) {
   EXPECT_TRUE(m.fence[1].circle);
   EXPECT_DOUBLE_EQ(m.fence[1].radius_m, 60);
   EXPECT_EQ(fence_breach(m.fence, 10, 10), -1);
-  EXPECT_EQ(fence_breach(m.fence, 44, 39), -1);    // 59.4 m from the circle's centre
+  EXPECT_EQ(fence_breach(m.fence, 44, 39), -1);     // 59.4 m from the circle's centre
   EXPECT_EQ(fence_breach(m.fence, 44.9, 39.9), 1);  // in the polygon, 60.07 m out: the circle
   EXPECT_EQ(fence_breach(m.fence, 46, 0), 0);
 }
@@ -229,12 +231,13 @@ TEST(YamlItems, GeodeticNeedsAHomeAndJumpsMustLand) {
       "geo.yaml",
       "home: {lat: 63.44, lon: 10.4}\nitems:\n  - {do: waypoint, lat: 63.441, lon: 10.4}\n"));
   EXPECT_NEAR(g.waypoints[0].north, 111.47, 0.02);
-  const std::string loop = refusal(
-      write_tmp("loop.yaml", "items:\n  - [1, 1]\n  - {do: speed, speed: 1}\n  - {do: jump, "
-                             "to: 1, repeat: -1}\n"));
+  const std::string loop =
+      refusal(write_tmp("loop.yaml",
+                        "items:\n  - [1, 1]\n  - {do: speed, speed: 1}\n  - {do: jump, "
+                        "to: 1, repeat: -1}\n"));
   EXPECT_NE(loop.find("item 2: the jump passes no point"), std::string::npos) << loop;
-  const std::string far = refusal(
-      write_tmp("far.yaml", "items:\n  - [1, 1]\n  - {do: jump, to: 7, repeat: 1}\n"));
+  const std::string far =
+      refusal(write_tmp("far.yaml", "items:\n  - [1, 1]\n  - {do: jump, to: 7, repeat: 1}\n"));
   EXPECT_NE(far.find("item 1: jump to an item that is not in the mission"), std::string::npos)
       << far;
   const std::string fence = refusal(write_tmp(

@@ -13,7 +13,9 @@
 namespace tiller {
 namespace {
 
-std::string src(const std::string& rel) { return std::string(TILLER_SOURCE_DIR) + "/" + rel; }
+std::string src(const std::string& rel) {
+  return std::string(TILLER_SOURCE_DIR) + "/" + rel;
+}
 
 double miss(const std::vector<scores::Pose>& poses, const mission::MissionPoint& p) {
   double best = 1e9;

@@ -60,7 +60,12 @@ void expect_points(const Leg& leg, std::initializer_list<std::pair<double, doubl
 
 TEST(Sequencer, LoiterJumpSpeedReturnHome) {
   Mission m;
-  m.items = {wp(10, 0), speed(0.5), wp(10, 10), loiter(0, 10, 5), wp(0, 0), jump(0, 1),
+  m.items = {wp(10, 0),
+             speed(0.5),
+             wp(10, 10),
+             loiter(0, 10, 5),
+             wp(0, 0),
+             jump(0, 1),
              simple(ItemKind::kReturnHome)};
   m.home_point = pt(-2, -1);
   Sequencer s(m);
@@ -102,7 +107,7 @@ TEST(Sequencer, ReturnToTheNearestRallyPointThenStop) {
   t.begin(pt(0, 0), 0);
   t.on_leg_complete(from_seconds(40));
   ASSERT_EQ(t.on_tick(from_seconds(40)), Action::kNewLeg);  // a loiter of 0 s
-  expect_points(t.leg(), {{50, 1}, {45, 5}});                // rally (45, 5): 6.4 m, home 50 m
+  expect_points(t.leg(), {{50, 1}, {45, 5}});               // rally (45, 5): 6.4 m, home 50 m
 }
 
 TEST(Sequencer, StopWithoutAPointAndLoiterForEver) {
