@@ -60,7 +60,9 @@ int main(int argc, char** argv) {
   app::Spec spec{
       "tiller-mission",
       "Publishes a mission's path and the waypointing mode, one arm request and, once armed, "
-      "the operator's START; or sends one operator command (--command).",
+      "the operator's START; or sends one operator command (--command). "
+      "tiller-mission survey POLYGON.geojson [--spacing M] [--angle DEG] [--vehicle FILE] "
+      "[--turn-radius-m R] [--home LAT,LON] [--out FILE.plan] writes a lawnmower plan.",
       "",
       {{"mission", "FILE", "mission file (.yaml, .csv or a QGroundControl .plan)",
         "config/missions/default.yaml"},
