@@ -69,37 +69,63 @@ TEST(PlanFlight, TheHarbourPlanFliesToItsEnd) {
   EXPECT_EQ(out.scores.path_scores.waypoints_missed, 0);
 }
 
-TEST(PlanFlight, LeavingTheFenceAtRunTimeReturnsHome) {
-  // An L-shaped inclusion fence: both waypoints inside, the straight leg between them cuts the
-  // missing corner, so the vehicle leaves the fence on its way; action return: home, held.
-  const std::string path = ::testing::TempDir() + "fence_mission.yaml";
-  std::ofstream(path) << R"(name: fence_return
+// An L-shaped inclusion fence: both waypoints inside, the straight leg between them cuts the
+// missing corner, so the vehicle leaves the fence on its way.
+runtool::RunOutcome fly_fence(const std::string& action) {
+  const std::string path = ::testing::TempDir() + "fence_" + action + ".yaml";
+  std::ofstream(path) << "name: fence_" << action << R"(
 time_limit_s: 120
 items:
   - [30, 0]
   - [30, 5]
   - [0, 30]
 fence:
-  action: return
+  action: )" << action << R"(
   inclusion: [[[-5, -5], [-5, 35], [5, 35], [5, 8], [35, 8], [35, -5]]]
 )";
   runtool::RunSpec spec;
   spec.mission_file = path;
   spec.vehicle_file = src("config/vehicles/otter.yaml");
   spec.sim_file = src("config/sim/sim.yaml");
-  const auto out = runtool::run(spec);
+  return runtool::run(spec);
+}
+
+TEST(PlanFlight, LeavingTheFenceAtRunTimeReturnsHome) {
+  const auto out = fly_fence("return");
   EXPECT_FALSE(out.completed);  // the mission did not reach (0, 30)
   const auto& poses = out.scores.poses;
   ASSERT_FALSE(poses.empty());
-  double far_out = 0;  // how far past the fence's corner (north > 5 and east > 8) it went
+  double far_out = 0;  // how far outside the fence (into the missing corner, north > 5, east > 8)
   for (const auto& p : poses)
     if (p.north > 5 && p.east > 8) far_out = std::max(far_out, std::min(p.north - 5, p.east - 8));
-  std::printf("fence: %.2f m past the corner at most; final (%.2f, %.2f)\n", far_out,
-              poses.back().north, poses.back().east);
+  std::printf("fence: %.2f m outside at most; final (%.2f, %.2f)\n", far_out, poses.back().north,
+              poses.back().east);
   EXPECT_GT(far_out, 0.0);  // it did leave (the run-time check had something to catch)
   EXPECT_LT(far_out, 3.0);
   EXPECT_LT(miss(poses, mission::MissionPoint{}), 1.0);
   EXPECT_LT(std::hypot(poses.back().north, poses.back().east), 1.0);
+  EXPECT_EQ(out.disarm_requests, 0u);
+}
+
+TEST(PlanFlight, LeavingTheFenceAtRunTimeHoldsOrGoesNeutral) {
+  for (const char* action : {"hold", "neutral"}) {
+    const auto out = fly_fence(action);
+    EXPECT_FALSE(out.completed) << action;
+    const auto& poses = out.scores.poses;
+    ASSERT_FALSE(poses.empty());
+    const auto& end = poses.back();
+    std::printf("fence %s: final (%.2f, %.2f), %zu disarm requests\n", action, end.north, end.east,
+                out.disarm_requests);
+    // Stopped near where it left the fence: the leg (30, 5) -> (0, 30) crosses the arm's edge
+    // east 8 m at north 30 - 3 * 30 / 25 = 26.4 m; not home, not at (0, 30).
+    EXPECT_LT(std::hypot(end.north - 26.4, end.east - 8), 1.5) << action;
+    // Hold: an ABORT, station keeping, armed; neutral: a RELEASE, the mixer disarms.
+    if (std::string(action) == "hold") {
+      EXPECT_EQ(out.disarm_requests, 0u);
+    } else {
+      EXPECT_GE(out.disarm_requests, 1u);
+    }
+  }
 }
 
 }  // namespace
