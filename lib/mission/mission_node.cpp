@@ -90,9 +90,11 @@ void MissionNode::send_command(std::int8_t command, TimeUs now) {
 
 void MissionNode::act(Sequencer::Action a, TimeUs now) {
   if (seq_->fence_breached() && *fence_breaches_ == 0) ++*fence_breaches_;
-  const bool degraded = seq_->fence_breached();
-  set_health(degraded ? heartbeat_t::STATE_DEGRADED : heartbeat_t::STATE_OK,
-             name_ + ": " + seq_->status());
+  if (seq_->status() != shown_status_) {  // rewritten only on a change: no allocation per sample
+    shown_status_ = seq_->status();
+    set_health(seq_->fence_breached() ? heartbeat_t::STATE_DEGRADED : heartbeat_t::STATE_OK,
+               name_ + ": " + shown_status_);
+  }
   switch (a) {
     case Sequencer::Action::kNone:
       return;

@@ -83,6 +83,7 @@ class MissionNode : public Node {
   MissionPoint position_;
   std::int64_t* fence_breaches_ = nullptr;
   path_speed_t speed_{};
+  std::string shown_status_;  // the sequencer's status last put in the heartbeat
 };
 
 }  // namespace tiller::mission
