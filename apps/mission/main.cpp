@@ -1,4 +1,5 @@
-// tiller-mission: publishes a path from a YAML or CSV mission file (TILLER_PATH) and the
+// tiller-mission: publishes a path from a YAML, CSV or QGroundControl .plan mission file
+// (TILLER_PATH; a mission with items flies leg by leg, docs/missions.md) and the
 // waypointing mode (TILLER_MODE), repeated every --repeat-s seconds until stopped (same path_id:
 // the follower does not restart); sends ONE arm request, and ONE operator START
 // (TILLER_MISSION_COMMAND) once the vehicle is armed (docs/safety.md). --repeat-s 0 publishes
@@ -6,7 +7,9 @@
 // --start-std-m M (and --start-settle-s S) waits, publishing nothing, until TILLER_ODOMETRY is
 // valid with its horizontal position 1-sigma <= M m, held for S s (mission/start_gate.hpp).
 // --command pause|resume|abort|release sends that operator command (and, for release, a disarm
-// request) and exits. It has no config file (--config is refused): the mission is --mission FILE.
+// request) and exits. `tiller-mission survey POLYGON.geojson --spacing 5 --angle 30` writes a
+// lawnmower plan (survey_cmd.cpp). It has no config file (--config is refused): the mission is
+// --mission FILE.
 #include <tiller/arm_request_t.hpp>
 #include <tiller/mission_command_t.hpp>
 
@@ -22,6 +25,7 @@
 #include "runtime/app.hpp"
 #include "runtime/channels.hpp"
 #include "runtime/live.hpp"
+#include "survey_cmd.hpp"
 
 namespace {
 
@@ -52,12 +56,16 @@ void send(tiller::LiveExecutor& ex, const char* channel, const Msg& m) {
 
 int main(int argc, char** argv) {
   using namespace tiller;
+  if (argc >= 2 && std::string(argv[1]) == "survey") return survey_main(argc, argv);
   app::Spec spec{
       "tiller-mission",
       "Publishes a mission's path and the waypointing mode, one arm request and, once armed, "
-      "the operator's START; or sends one operator command (--command).",
+      "the operator's START; or sends one operator command (--command). "
+      "tiller-mission survey POLYGON.geojson [--spacing M] [--angle DEG] [--vehicle FILE] "
+      "[--turn-radius-m R] [--home LAT,LON] [--out FILE.plan] writes a lawnmower plan.",
       "",
-      {{"mission", "FILE", "mission file (.yaml or .csv)", "config/missions/default.yaml"},
+      {{"mission", "FILE", "mission file (.yaml, .csv or a QGroundControl .plan)",
+        "config/missions/default.yaml"},
        {"path-id", "N",
         "path id, a whole number >= 0 (default: the start time in us, so each run is a new path)",
         ""},

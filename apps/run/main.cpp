@@ -5,6 +5,7 @@
 // draws a PNG. The logic: lib/runtool (run.hpp, sweep.hpp); the guide: docs/tuning.md.
 //   tiller-run config/missions/default.yaml --current-speed 0.3 --current-toward-deg 210
 //   tiller-run config/missions/default.yaml --sweep control.velocity_pid.yaw.k_error=20:80:4
+//   tiller-run config/missions/harbour.plan      (a QGroundControl plan: docs/missions.md)
 #include <algorithm>
 #include <chrono>
 #include <cstdio>

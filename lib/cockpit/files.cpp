@@ -77,6 +77,12 @@ mission::Mission load_mission_text(const std::string& name, const std::string& t
   try {
     mission::Mission m = mission::load_mission_file(file);
     cleanup();
+    // The page publishes a plain path: items (loiter, return home, fence...) would be dropped.
+    if (!m.items.empty())
+      throw std::runtime_error(name +
+                               ": a mission with items (loiter, return home, speed, jump, "
+                               "fence) flies with tiller-mission (docs/missions.md); the cockpit "
+                               "loads plain paths (waypoints:)");
     return m;
   } catch (const std::exception& e) {
     cleanup();

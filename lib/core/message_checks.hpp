@@ -37,6 +37,7 @@
 #include <tiller/mission_command_t.hpp>
 #include <tiller/odometry_t.hpp>
 #include <tiller/path_progress_t.hpp>
+#include <tiller/path_speed_t.hpp>
 #include <tiller/path_t.hpp>
 #include <tiller/pid_terms_t.hpp>
 #include <tiller/power_t.hpp>
@@ -211,6 +212,16 @@ inline Reason check(const path_t& m) {
     if (!within(w.position, 3, -1e6, 1e6)) return "waypoint.position.range";
     if (w.has_heading && !heading(w.heading)) return "waypoint.heading.range";
   }
+  return nullptr;
+}
+
+// path_speed_t: 0..10000 segments, each speed finite in [0, 20] m/s.
+inline Reason check(const path_speed_t& m) {
+  if (m.n_segments < 0 || m.n_segments > 10000 ||
+      static_cast<std::size_t>(m.n_segments) != m.speed.size())
+    return "n_segments.range";
+  for (const double v : m.speed)
+    if (!(v >= 0.0 && v <= 20.0)) return "speed.range";
   return nullptr;
 }
 

@@ -150,6 +150,8 @@ class PathFollower {
   bool has_path() const { return !pts_.empty(); }
   const std::vector<Waypoint>& points() const { return pts_; }
   const FollowerParams& params() const { return p_; }
+  // The along-path speed from now on (a mission's speed change, TILLER_PATH_SPEED), m/s > 0.
+  void set_max_speed(double v) { p_.max_speed = v; }
 
   // One step: `dt` s since the previous update (for the integral law; 0 is fine).
   FollowerOutput update(const Vec2& pos, double heading, double dt);

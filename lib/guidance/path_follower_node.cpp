@@ -30,6 +30,8 @@ PathFollowerNode::PathFollowerNode(const FollowerNodeParams& p)
   subscribe(channels::kOdometry, &PathFollowerNode::on_odometry);
   subscribe(channels::kMode, &PathFollowerNode::on_mode);
   subscribe(channels::kMissionCommand, &PathFollowerNode::on_command);
+  subscribe(channels::kPathSpeed, &PathFollowerNode::on_speed);
+  speeds_.path_id = -1;
   advertise<velocity_setpoint_t>(channels::kVelocitySetpoint);
   advertise<path_progress_t>(channels::kPathProgress);
   advertise<station_target_t>(channels::kStationTarget);
@@ -111,6 +113,7 @@ void PathFollowerNode::on_command(const mission_command_t& m, TimeUs) {
 
 void PathFollowerNode::start_pending_path() {
   pending_ = false;
+  last_segment_ = 0;
   if (follower_.set_path(pending_points_, pos_, heading_, is_translation_)) ++*paths_started_;
   last_update_odom_time_ = -1;
 }
@@ -154,6 +157,15 @@ void PathFollowerNode::on_mode(const controller_mode_t& m, TimeUs) {
   follower_.set_translation(is_translation_, heading_);
 }
 
+void PathFollowerNode::on_speed(const path_speed_t& m, TimeUs) {
+  if (checks::check(m) != nullptr) {
+    if (!bad_speed_) bad_speed_ = &counter("rejected.path_speed.invalid");
+    reject(*bad_speed_);
+    return;
+  }
+  speeds_ = m;
+}
+
 void PathFollowerNode::on_tick(TimeUs now) {
   const bool fresh = odom_fresh_.fresh(now);
   if (odom_fresh_.stale_events() > seen_stale_) {
@@ -166,7 +178,14 @@ void PathFollowerNode::on_tick(TimeUs now) {
                           ? 0.0
                           : std::max(0.0, to_seconds(odom_time_ - last_update_odom_time_));
     last_update_odom_time_ = odom_time_;
+    // A mission's speed for the segment the follower is on (its last output's), else max_speed.
+    double v = p_.follower.max_speed;
+    const int seg = std::max(last_segment_, 0);
+    if (speeds_.path_id == path_id_ && seg < speeds_.n_segments && speeds_.speed[seg] > 0)
+      v = std::min(v, speeds_.speed[seg]);
+    follower_.set_max_speed(v);
     out_ = follower_.update(pos_, heading_, dt);
+    last_segment_ = out_.segment;
   }
 
   velocity_setpoint_t sp{};

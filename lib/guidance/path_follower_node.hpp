@@ -2,7 +2,9 @@
 //
 // Subscribes TILLER_PATH (path_t: a new path_id restarts the follower, 0 points cancels),
 // TILLER_ODOMETRY (pose NED, heading), TILLER_MODE (is_translation) and TILLER_MISSION_COMMAND
-// (the operator's PAUSE, RESUME, ABORT, RELEASE; a repeated command_id is ignored):
+// (the operator's PAUSE, RESUME, ABORT, RELEASE; a repeated command_id is ignored) and
+// TILLER_PATH_SPEED (path_speed_t: segment k of that path_id at min(speed[k], max_speed); a bad
+// one is dropped and counted, rejected.path_speed.invalid):
 //   PAUSE    stop following, keep the path (progress: its path_id, segment -1; setpoint inactive):
 //            the arbiter holds position (station keeping where the vehicle is);
 //   RESUME   follow the paused path again, from where the vehicle is;
@@ -25,6 +27,7 @@
 #include <tiller/controller_mode_t.hpp>
 #include <tiller/mission_command_t.hpp>
 #include <tiller/odometry_t.hpp>
+#include <tiller/path_speed_t.hpp>
 #include <tiller/path_t.hpp>
 
 #include "guidance/follower_config.hpp"
@@ -41,6 +44,7 @@ class PathFollowerNode : public Node {
   void on_odometry(const odometry_t& m, TimeUs now);
   void on_mode(const controller_mode_t& m, TimeUs now);
   void on_command(const mission_command_t& m, TimeUs now);
+  void on_speed(const path_speed_t& m, TimeUs now);
   void on_tick(TimeUs now) override;
 
   const PathFollower& follower() const { return follower_; }
@@ -76,6 +80,9 @@ class PathFollowerNode : public Node {
   std::int64_t* bad_command_ = nullptr;       // made on first use
   std::int64_t* dropped_repeats_ = nullptr;   // made on first use
   std::int64_t* invalid_path_;
+  int last_segment_ = 0;               // the follower's segment at its last update
+  path_speed_t speeds_{};              // the latest speeds (path_id -1: none)
+  std::int64_t* bad_speed_ = nullptr;  // made on first use
   std::int64_t* paths_started_;
 };
 

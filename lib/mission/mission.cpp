@@ -5,6 +5,10 @@
 #include <sstream>
 
 #include "core/angles.hpp"
+#include "mission/fence.hpp"
+#include "mission/geo.hpp"
+#include "mission/items_yaml.hpp"
+#include "mission/plan_file.hpp"
 
 namespace tiller::mission {
 
@@ -109,10 +113,12 @@ Mission load_mission(const config::Value& root, const std::string& base_dir) {
   m.time_limit_s = root.number_or("time_limit_s", 600, {1, 1e6});
   m.station_keep_s = root.number_or("station_keep_s", 0, {0, 1e6});
   if (auto s = root.find("start")) m.start = load_point(*s);
-  if (root.has("waypoints") == root.has("waypoints_csv")) {
-    root.fail("exactly one of 'waypoints' or 'waypoints_csv'");
+  if (int{root.has("waypoints")} + root.has("waypoints_csv") + root.has("items") != 1) {
+    root.fail("exactly one of 'waypoints', 'waypoints_csv' or 'items'");
   }
-  if (root.has("waypoints")) {
+  if (root.has("items")) {
+    load_items(root, m);
+  } else if (root.has("waypoints")) {
     const auto w = root.at("waypoints");
     if (!w.is_sequence() || w.size() == 0) w.fail("a non-empty list of waypoints");
     for (const auto& item : w.items()) m.waypoints.push_back(load_point(item));
@@ -123,7 +129,31 @@ Mission load_mission(const config::Value& root, const std::string& base_dir) {
   return m;
 }
 
-Mission load_mission_file(const std::string& path) {
+void finish_items(Mission& m, const std::string& file, const std::optional<GeoPoint>& datum) {
+  if (m.items.empty()) return;
+  if (m.geodetic()) {
+    const auto d = datum ? datum : m.home;
+    if (!d)
+      throw config::Error(file +
+                          ": the mission is in lat/lon: expected a home position (home: {lat, "
+                          "lon}, or a .plan's plannedHomePosition) or a datum to place it");
+    localise(m, *d);
+  }
+  if (!m.home && m.start) m.home_point = *m.start;
+  m.waypoints.clear();
+  for (const auto& it : m.items) {
+    if (it.has_point) m.waypoints.push_back(it.point);
+    // Home is where a return goes without rally points (with them: the nearest, at run time).
+    if (it.kind == ItemKind::kReturnHome && m.rally.empty()) m.waypoints.push_back(m.home_point);
+  }
+  if (!m.start) {
+    m.start = m.home_point;
+    m.start->has_heading = false;
+  }
+  check_items(m, file);
+}
+
+Mission load_mission_file(const std::string& path, const std::optional<GeoPoint>& datum) {
   const auto ext = path.substr(
       path.find_last_of('.') == std::string::npos ? path.size() : path.find_last_of('.'));
   if (ext == ".csv") {
@@ -132,7 +162,10 @@ Mission load_mission_file(const std::string& path) {
     m.waypoints = load_csv_points(path);
     return m;
   }
-  return load_mission(config::Value::load_file(path), dir_of(path));
+  Mission m = ext == ".plan" ? load_plan_file(path)
+                             : load_mission(config::Value::load_file(path), dir_of(path));
+  finish_items(m, path, datum);
+  return m;
 }
 
 path_t to_path(const Mission& m, std::int64_t path_id, std::int64_t utime) {

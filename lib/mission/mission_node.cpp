@@ -3,6 +3,7 @@
 #include <tiller/arm_request_t.hpp>
 #include <tiller/controller_mode_t.hpp>
 #include <tiller/mission_command_t.hpp>
+#include <tiller/path_speed_t.hpp>
 
 #include <algorithm>
 
@@ -13,7 +14,8 @@ namespace tiller::mission {
 
 MissionNode::MissionNode(const Mission& m, std::int64_t path_id, TimeUs repeat_period_us, bool arm,
                          const StartGateParams& gate)
-    : Node("mission", gate.enabled ? std::min(repeat_period_us, kGatePollUs) : repeat_period_us),
+    : Node("mission", gate.enabled || !m.items.empty() ? std::min(repeat_period_us, kGatePollUs)
+                                                       : repeat_period_us),
       repeat_us_(repeat_period_us),
       path_(to_path(m, path_id, 0)),
       translation_(m.is_translation),
@@ -23,7 +25,16 @@ MissionNode::MissionNode(const Mission& m, std::int64_t path_id, TimeUs repeat_p
   set_health(heartbeat_t::STATE_OK,
              gate.enabled ? "waiting for the estimate: no odometry yet" : "publishing " + m.name);
   subscribe(channels::kArmState, &MissionNode::on_arm_state);
-  if (gate.enabled) subscribe(channels::kOdometry, &MissionNode::on_odometry);
+  if (!m.items.empty()) {
+    mission_ = std::make_unique<Mission>(m);
+    seq_ = std::make_unique<Sequencer>(*mission_);
+    base_id_ = path_id;
+    position_ = m.start ? *m.start : m.home_point;
+    subscribe(channels::kPathProgress, &MissionNode::on_progress);
+    advertise<path_speed_t>(channels::kPathSpeed);
+    fence_breaches_ = &counter("fence.breaches");
+  }
+  if (gate.enabled || seq_) subscribe(channels::kOdometry, &MissionNode::on_odometry);
   advertise<path_t>(channels::kPath);
   advertise<controller_mode_t>(channels::kMode);
   advertise<mission_command_t>(channels::kMissionCommand);
@@ -38,7 +49,7 @@ void MissionNode::on_arm_state(const arm_state_t& m, TimeUs now) {
   if (!m.armed || start_sent_ || (arm_ && !arm_sent_)) return;
   mission_command_t c{};
   c.utime = now;
-  c.command_id = path_.path_id > 0 ? path_.path_id : 1;
+  c.command_id = base_id_ > 0 ? base_id_ : (path_.path_id > 0 ? path_.path_id : 1);
   c.command = mission_command_t::START;
   c.source = "mission";
   publish(channels::kMissionCommand, c);
@@ -52,6 +63,67 @@ void MissionNode::on_odometry(const odometry_t& m, TimeUs now) {
     return;
   }
   gate_.on_odometry(m, now);
+  if (!seq_ || !(m.valid & odometry_t::VALID_POSITION)) return;
+  have_position_ = true;
+  position_.north = m.position[0];
+  position_.east = m.position[1];
+  if (began_at_ >= 0) act(seq_->on_position(m.position[0], m.position[1], now), now);
+}
+
+void MissionNode::on_progress(const path_progress_t& m, TimeUs now) {
+  if (checks::check(m) != nullptr) {
+    reject(counter("rejected.path_progress.invalid"));  // made on first use
+    return;
+  }
+  if (began_at_ < 0 || !m.complete || m.path_id != path_.path_id) return;
+  act(seq_->on_leg_complete(now), now);
+}
+
+void MissionNode::send_command(std::int8_t command, TimeUs now) {
+  mission_command_t c{};
+  c.utime = now;
+  c.command_id = base_id_ + kCommandIdOffset + commands_sent_++;
+  c.command = command;
+  c.source = "mission";
+  publish(channels::kMissionCommand, c);
+}
+
+void MissionNode::act(Sequencer::Action a, TimeUs now) {
+  if (seq_->fence_breached() && *fence_breaches_ == 0) ++*fence_breaches_;
+  if (seq_->status() != shown_status_) {  // rewritten only on a change: no allocation per sample
+    shown_status_ = seq_->status();
+    set_health(seq_->fence_breached() ? heartbeat_t::STATE_DEGRADED : heartbeat_t::STATE_OK,
+               name_ + ": " + shown_status_);
+  }
+  switch (a) {
+    case Sequencer::Action::kNone:
+      return;
+    case Sequencer::Action::kNewLeg: {
+      const Leg& leg = seq_->leg();
+      path_.path_id = base_id_ + seq_->leg_number() - 1;
+      path_.waypoints.clear();
+      for (const auto& w : leg.points) {
+        waypoint_t x{};
+        x.position[0] = w.north;
+        x.position[1] = w.east;
+        x.has_heading = w.has_heading;
+        x.heading = w.heading;
+        path_.waypoints.push_back(x);
+      }
+      path_.n_waypoints = static_cast<std::int32_t>(path_.waypoints.size());
+      speed_.path_id = path_.path_id;
+      speed_.speed = leg.speeds;
+      speed_.n_segments = static_cast<std::int32_t>(speed_.speed.size());
+      publish_path(now);
+      return;
+    }
+    case Sequencer::Action::kHold:
+      send_command(mission_command_t::ABORT, now);
+      return;
+    case Sequencer::Action::kStop:
+      send_command(mission_command_t::RELEASE, now);
+      return;
+  }
 }
 
 void MissionNode::on_tick(TimeUs now) {
@@ -67,10 +139,25 @@ void MissionNode::on_tick(TimeUs now) {
     }
     began_at_ = now;
     set_health(heartbeat_t::STATE_OK, "publishing " + name_);
+    if (seq_) {
+      act(seq_->begin(position_, now), now);
+      return;
+    }
+  } else if (seq_) {
+    act(seq_->on_tick(now), now);
+    if (now - last_sent_ < repeat_us_) return;
   } else if (now - last_sent_ < repeat_us_) {
     return;  // gated: the tick polls the gate faster than the path repeats
   }
+  publish_path(now);
+}
+
+void MissionNode::publish_path(TimeUs now) {
   last_sent_ = now;
+  if (seq_) {  // the speeds first: the follower has them when the path starts
+    speed_.utime = now;
+    publish(channels::kPathSpeed, speed_);
+  }
   path_.utime = now;
   publish(channels::kPath, path_);
   controller_mode_t mode{};

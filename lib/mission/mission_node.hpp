@@ -13,15 +13,27 @@
 // period if shorter) to watch the gate, and repeats the path every repeat period after its start.
 // Once started it does not wait again: a later bad estimate is the controllers' and the failsafe's
 // to act on (docs/safety.md).
+// A mission with items (loiter, return home, stop, speed, jump, fence; mission/sequencer.hpp)
+// is flown as legs: each leg a new path_id (path_id, path_id + 1, ...), published when it
+// begins and repeated like a plain path, each time after its speeds (TILLER_PATH_SPEED,
+// path_speed_t: the legs' speed changes, 0 = the follower's max_speed); it subscribes
+// TILLER_PATH_PROGRESS (a leg complete) and TILLER_ODOMETRY (where the first leg starts, the
+// run-time fence). Hold is an operator ABORT, stop an operator RELEASE (the mixer disarms), each
+// sent once (command ids from path_id + kCommandIdOffset); the heartbeat's status says what the
+// mission does (DEGRADED after a fence breach, counted in fence.breaches).
 #pragma once
 
 #include <tiller/arm_state_t.hpp>
 #include <tiller/odometry_t.hpp>
+#include <tiller/path_progress_t.hpp>
+#include <tiller/path_speed_t.hpp>
 #include <tiller/path_t.hpp>
 
+#include <memory>
 #include <string>
 
 #include "mission/mission.hpp"
+#include "mission/sequencer.hpp"
 #include "mission/start_gate.hpp"
 #include "runtime/node.hpp"
 
@@ -36,10 +48,17 @@ class MissionNode : public Node {
   bool started() const { return start_sent_; }
   // The time of the first tick that published the path (-1 while waiting for the estimate).
   TimeUs began_at() const { return began_at_; }
+  // Items: the sequencer (nullptr for a plain path).
+  const Sequencer* sequencer() const { return seq_.get(); }
+  static constexpr std::int64_t kCommandIdOffset = 1'000'000;
 
  private:
   void on_arm_state(const arm_state_t& m, TimeUs now);
   void on_odometry(const odometry_t& m, TimeUs now);
+  void on_progress(const path_progress_t& m, TimeUs now);
+  void act(Sequencer::Action a, TimeUs now);
+  void publish_path(TimeUs now);
+  void send_command(std::int8_t command, TimeUs now);
 
   static constexpr TimeUs kGatePollUs = 100'000;  // gated: the tick that watches the gate
 
@@ -55,6 +74,16 @@ class MissionNode : public Node {
   StartGate gate_;
   TimeUs began_at_ = -1;
   TimeUs status_at_ = -1;  // when the "waiting" status was last written
+  // Items.
+  std::unique_ptr<Mission> mission_;
+  std::unique_ptr<Sequencer> seq_;
+  std::int64_t base_id_ = 0;
+  std::int64_t commands_sent_ = 0;
+  bool have_position_ = false;
+  MissionPoint position_;
+  std::int64_t* fence_breaches_ = nullptr;
+  path_speed_t speed_{};
+  std::string shown_status_;  // the sequencer's status last put in the heartbeat
 };
 
 }  // namespace tiller::mission

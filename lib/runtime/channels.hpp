@@ -18,6 +18,7 @@ inline constexpr const char* kGroundTruth = "TILLER_GROUND_TRUTH";        // odo
 inline constexpr const char* kSimState = "TILLER_SIM_STATE";              // sim_state_t
 inline constexpr const char* kVelocitySetpoint = "TILLER_VELOCITY_SETPOINT";  // velocity_setpoint_t
 inline constexpr const char* kPathProgress = "TILLER_PATH_PROGRESS";          // path_progress_t
+inline constexpr const char* kPathSpeed = "TILLER_PATH_SPEED";                // path_speed_t
 inline constexpr const char* kStationTarget = "TILLER_STATION_TARGET";        // station_target_t
 inline constexpr const char* kWrenchVelocity = "TILLER_WRENCH_VELOCITY";      // wrench_t
 inline constexpr const char* kWrenchStation = "TILLER_WRENCH_STATION";        // wrench_t

@@ -157,6 +157,9 @@ RunOutcome run(const RunSpec& spec) {
   guidance::PathFollowerNode follower(fparams);
 
   mission::MissionNode mnode(m, 1, kUsPerSecond, true, spec.start_gate);
+  // A mission with items (mission/sequencer.hpp) is complete when its last leg is: held or
+  // stopped, not at its first leg's end.
+  const mission::Sequencer* seq = mnode.sequencer();
 
   // The order of the closed-loop harness (test/autonomy/harness.cpp): plant, then autonomy.
   LockstepExecutor ex(0);
@@ -192,6 +195,13 @@ RunOutcome run(const RunSpec& spec) {
   constexpr TimeUs kNeutralAfter = 520'000;
   ex.observe([&](const std::string& ch, const std::uint8_t* d, int n, TimeUs t) {
     ++out.messages;
+    if (seq != nullptr && !out.completed &&
+        (seq->state() == mission::Sequencer::State::kHolding ||
+         seq->state() == mission::Sequencer::State::kStopped) &&
+        !seq->fence_breached()) {
+      out.completed = true;
+      out.completed_at = to_seconds(t);
+    }
     if (log) log->write(ch, d, n, t);
     if (ch == channels::kVelocitySetpoint && vsp.decode(d, 0, n) == n && vsp.active) {
       out.max_setpoint_speed =
@@ -216,8 +226,8 @@ RunOutcome run(const RunSpec& spec) {
     if (ch == channels::kGroundTruth || ch == channels::kOdometry || ch == channels::kPath ||
         ch == channels::kPathProgress) {
       scored.push_back(Event{ch, t, std::vector<std::uint8_t>(d, d + n)});
-      if (ch == channels::kPathProgress && !out.completed && pr.decode(d, 0, n) == n &&
-          pr.complete) {
+      if (ch == channels::kPathProgress && seq == nullptr && !out.completed &&
+          pr.decode(d, 0, n) == n && pr.complete) {
         out.completed = true;
         out.completed_at = to_seconds(t);
       }

@@ -301,6 +301,15 @@ TEST(CockpitNode, MissionLoadStartAndErrorsWithLineAndKey) {
   EXPECT_EQ(r.node.counter_value("rejected.mission.file"), 1);
   r.send(1, {{"type", "mission_load"}, {"name", "x.txt"}, {"text", "1,2"}}, 3'100'000);
   EXPECT_FALSE(r.last_reply()["ok"].get<bool>());
+  // A mission with items: refused, not flown as its bare waypoints (docs/missions.md).
+  r.send(1,
+         {{"type", "mission_load"},
+          {"name", "items.yaml"},
+          {"text", "items:\n  - [5, 0]\n  - {do: loiter, north: 5, east: 5, time_s: 9}\n"}},
+         3'150'000);
+  const json items = r.last_reply();
+  EXPECT_FALSE(items["ok"].get<bool>());
+  EXPECT_NE(items["error"].get<std::string>().find("flies with tiller-mission"), std::string::npos);
   // Abort stops the repeats.
   r.send(1, {{"type", "mission"}, {"command", "abort"}}, 3'200'000);
   const std::size_t n = r.bus.on<path_t>(channels::kPath).size();

@@ -33,6 +33,7 @@
 #include <tiller/mission_command_t.hpp>
 #include <tiller/odometry_t.hpp>
 #include <tiller/path_progress_t.hpp>
+#include <tiller/path_speed_t.hpp>
 #include <tiller/path_t.hpp>
 #include <tiller/pid_terms_t.hpp>
 #include <tiller/power_t.hpp>
@@ -317,6 +318,16 @@ inline path_progress_t good(const std::string&, TimeUs t, const InputContext&) {
   m.n_waypoints = 2;
   m.distance_to_goal = 10.0;
   m.along_track_error = 10.0;
+  return m;
+}
+
+template <>
+inline path_speed_t good(const std::string&, TimeUs t, const InputContext&) {
+  path_speed_t m{};
+  m.utime = t;
+  m.path_id = 7;
+  m.n_segments = 2;
+  m.speed = {1.0, 0.5};
   return m;
 }
 
@@ -781,6 +792,16 @@ inline std::vector<BadValue<path_progress_t>> bad_values() {
 }
 
 template <>
+inline std::vector<BadValue<path_speed_t>> bad_values() {
+  return {
+      {"speed -1 m/s", kOR, [](path_speed_t& m) { m.speed[1] = -1.0; }},
+      {"speed 21 m/s", kOR, [](path_speed_t& m) { m.speed[0] = 21.0; }},
+      {"speed NaN", kNF, [](path_speed_t& m) { m.speed[0] = NAN; }},
+      {"speed inf", kNF, [](path_speed_t& m) { m.speed[1] = INFINITY; }},
+  };
+}
+
+template <>
 inline std::vector<BadValue<thruster_command_t>> bad_values() {
   return {
       {"command 1.5", kOR, [](thruster_command_t& m) { m.command.back() = 1.5; }},
@@ -900,6 +921,7 @@ inline std::vector<TypeInputs> all_type_inputs() {
           type_inputs<mission_command_t>(),
           type_inputs<path_t>(),
           type_inputs<path_progress_t>(),
+          type_inputs<path_speed_t>(),
           type_inputs<thruster_command_t>(),
           type_inputs<thruster_test_t>(),
           type_inputs<pid_terms_t>(),

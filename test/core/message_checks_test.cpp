@@ -279,6 +279,17 @@ TEST(MessageChecks, ProgressCommandsEscJoystick) {
                     {"distance inf", [](auto& m) { m.distance_to_goal = kInf; }, "distance.range"},
                 });
 
+  path_speed_t ps{};
+  ps.n_segments = 2;
+  ps.speed = {0.0, 1.5};
+  run_table(ps, std::vector<Case<path_speed_t>>{
+                    {"speed -0.1", [](auto& m) { m.speed[0] = -0.1; }, "speed.range"},
+                    {"speed 20.5", [](auto& m) { m.speed[1] = 20.5; }, "speed.range"},
+                    {"speed NaN", [](auto& m) { m.speed[1] = kNan; }, "speed.range"},
+                    {"count 3 of 2", [](auto& m) { m.n_segments = 3; }, "n_segments.range"},
+                    {"count -1", [](auto& m) { m.n_segments = -1; }, "n_segments.range"},
+                });
+
   thruster_command_t tc{};
   tc.source = wrench_t::SOURCE_MANUAL_DEMAND;
   tc.n_thrusters = 2;

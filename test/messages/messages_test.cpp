@@ -27,6 +27,7 @@
 #include <tiller/mission_command_t.hpp>
 #include <tiller/odometry_t.hpp>
 #include <tiller/path_progress_t.hpp>
+#include <tiller/path_speed_t.hpp>
 #include <tiller/path_t.hpp>
 #include <tiller/pid_terms_t.hpp>
 #include <tiller/sim_state_t.hpp>
@@ -237,6 +238,15 @@ TEST(Messages, SetpointProgressStation) {
   const auto rp = round_trip(p);
   EXPECT_EQ(rp.cross_track_error, -0.4);
   EXPECT_EQ(rp.skipped_waypoints, 1);
+
+  path_speed_t ps{};
+  ps.utime = 16;
+  ps.path_id = 4;
+  ps.n_segments = 3;
+  ps.speed = {0.0, 1.0, 1.5};
+  const auto rps = round_trip(ps);
+  EXPECT_EQ(rps.path_id, 4);
+  EXPECT_EQ(rps.speed, (std::vector<double>{0.0, 1.0, 1.5}));
 
   station_target_t s{};
   s.utime = 15;

@@ -160,6 +160,10 @@ std::vector<Program> programs() {
   mission::StartGateParams gate;  // --start-std-m: it listens to the odometry too
   gate.enabled = true;
   add("tiller-mission", std::make_unique<mission::MissionNode>(m, 1, kUsPerSecond, true, gate));
+  // A mission with items (docs/missions.md): it listens to the progress and sends the speeds.
+  add("tiller-mission",
+      std::make_unique<mission::MissionNode>(
+          mission::load_mission_file(kRoot + "/config/missions/harbour.plan"), 1, kUsPerSecond));
   add("tiller-cockpit", std::make_unique<cockpit::CockpitNode>(
                             cockpit::load_cockpit_file(kRoot + "/config/cockpit/usv_sim.yaml").node,
                             "0123456789abcdef", [](const std::string&, const std::string&) {

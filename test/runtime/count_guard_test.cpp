@@ -31,6 +31,7 @@
 #include <tiller/mission_command_t.hpp>
 #include <tiller/odometry_t.hpp>
 #include <tiller/path_progress_t.hpp>
+#include <tiller/path_speed_t.hpp>
 #include <tiller/path_t.hpp>
 #include <tiller/pid_terms_t.hpp>
 #include <tiller/power_t.hpp>
@@ -163,6 +164,12 @@ std::map<std::string, std::function<void()>> checks() {
     check<mission_command_t>([](auto& m) { m.source = "tiller-mission"; });
   };
   c["path_progress_t"] = [] { check<path_progress_t>([](auto& m) { m.segment = 2; }); };
+  c["path_speed_t"] = [] {
+    check<path_speed_t>([](auto& m) {
+      m.n_segments = 3;
+      m.speed = {0, 1.0, 1.5};
+    });
+  };
   c["path_t"] = [] {
     check<path_t>([](auto& m) {
       m.n_waypoints = 3;
