@@ -55,10 +55,7 @@ class Device {
   std::uint8_t address() const { return address_; }
 
  private:
-  int write(std::uint8_t reg, std::uint8_t v) {
-    const std::uint8_t b[2] = {reg, v};
-    return bus_.write(address_, b, 2);
-  }
+  int write(std::uint8_t reg, std::uint8_t v) { return i2c::write_reg(bus_, address_, reg, v); }
   i2c::Transport& bus_;
   std::uint8_t address_;
   std::uint8_t mode_;
