@@ -124,6 +124,11 @@ int run(int argc, char** argv) {
     print_check(std::cout, plan, host);
     return kExitOk;
   }
+  if (plan.log && lf.logger.rotate > 0) {
+    // One log per launch: last run's files move up one (launch/plan.hpp).
+    const std::string problems = rotate_previous_logs(plan.log_file, lf.logger.rotate);
+    if (!problems.empty()) std::cerr << "tiller-launch: " << problems;
+  }
   return run_plan(plan, host, {every, status_file_of(args, lf.name), policy});
 }
 

@@ -43,6 +43,10 @@ Pca9685Params load_pca(const config::Value& v) {
   p.external_clock_hz = v.number_or("external_clock_hz", 0.0, {0, 50e6});
   p.totem_pole = v.choice_or("output", "totem_pole", {"totem_pole", "open_drain"}) == "totem_pole";
   p.pulse = load_pulse(v, p.pulse);
+  if (const auto oe = v.find("output_enable")) {
+    p.oe_chip = oe->string_or("chip", p.oe_chip);
+    p.oe_line = static_cast<int>(oe->integer("line", 0, 511));
+  }
   const int pre = pca9685::prescale(p);
   if (pre < 3 || pre > 255) {
     v.at("pwm_hz").fail("a PWM frequency giving a prescale in 3..255 with this clock (got " +
@@ -216,7 +220,13 @@ std::unique_ptr<EscBackend> make_backend(const EscConfig& cfg, i2c::Transport* t
   }
   std::unique_ptr<EscBackend> b;
   if (proto == "pca9685") {
-    b = std::make_unique<Pca9685Backend>(*transport, cfg.pca9685, cfg.escs);
+    auto pca = std::make_unique<Pca9685Backend>(*transport, cfg.pca9685, cfg.escs);
+    // The OE line on the real board only (a dry run or a test's fake bus has none).
+    if (cfg.pca9685.oe_line >= 0 && owned && cfg.backend != "dry_run") {
+      pca->set_output_enable(gpio::open_gpiod_output(
+          cfg.pca9685.oe_chip, static_cast<unsigned>(cfg.pca9685.oe_line), 1, "tiller-esc"));
+    }
+    b = std::move(pca);
   } else {
     b = std::make_unique<TgyBackend>(*transport, cfg.tgy, cfg.escs);
   }

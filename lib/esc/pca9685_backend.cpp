@@ -48,6 +48,15 @@ int Pca9685Backend::counts(std::int32_t pulse_us) const {
   return std::clamp(static_cast<int>(std::lround(pulse_us / tick_us_)), 0, 4095);
 }
 
+Pca9685Backend::~Pca9685Backend() {
+  if (oe_) oe_->set(1);  // outputs off
+}
+
+void Pca9685Backend::set_output_enable(std::unique_ptr<gpio::OutputLine> oe) {
+  oe_ = std::move(oe);
+  if (oe_) oe_->set(1);
+}
+
 int Pca9685Backend::reg(std::uint8_t r, std::uint8_t v) {
   const std::uint8_t buf[2] = {r, v};
   return bus_.write(addr_, buf, 2);
@@ -56,7 +65,8 @@ int Pca9685Backend::reg(std::uint8_t r, std::uint8_t v) {
 int Pca9685Backend::init_chip(std::uint8_t* prescale_read) {
   const std::uint8_t ext = p_.external_clock_hz > 0 ? kExtClk : 0;
   const auto pre = static_cast<std::uint8_t>(prescale(p_));
-  int err = reg(kMode1, kSleep | kAi);                         // oscillator off
+  if (oe_) oe_->set(1);                 // outputs off until a cycle of safe pulses went out
+  int err = reg(kMode1, kSleep | kAi);  // oscillator off
   if (err == 0 && ext) err = reg(kMode1, kSleep | kAi | ext);  // EXTCLK: set while asleep
   if (err == 0) err = reg(kPreScale, pre);                     // only while asleep
   if (err == 0) err = reg(kMode2, p_.totem_pole ? kOutDrv : 0);
@@ -128,13 +138,18 @@ bool Pca9685Backend::poll_telemetry(TimeUs now) {
 
 void Pca9685Backend::write(const std::int32_t* hw, TimeUs now) {
   bus_.set_time(now);
+  bool all_ok = true;
   for (std::size_t i = 0; i < size(); ++i) {
     const int off = counts(hw[i]);
     const std::uint8_t buf[5] = {static_cast<std::uint8_t>(kLed0OnL + 4 * escs_[i].address), 0x00,
                                  0x00, static_cast<std::uint8_t>(off & 0xFF),
                                  static_cast<std::uint8_t>((off >> 8) & 0x0F)};
-    record(i, bus_.write(addr_, buf, sizeof buf), true);
+    const int err = bus_.write(addr_, buf, sizeof buf);
+    record(i, err, true);
+    all_ok = all_ok && err == 0;
   }
+  // Every channel has its pulse on an initialised chip: the outputs may be driven.
+  if (oe_ && all_ok && initialised_ && oe_->level() != 0) oe_->set(0);
 }
 
 }  // namespace tiller::esc

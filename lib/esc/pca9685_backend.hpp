@@ -10,11 +10,19 @@
 // [LEDn_ON_L, 0, 0, OFF_L, OFF_H], OFF = round(pulse_us / tick_us), tick_us = (prescale + 1) /
 // f_clk. f_clk = oscillator_hz * oscillator_calibration (the internal 25 MHz oscillator is off
 // by a few percent), or the external clock when one is configured.
+// Output enable (the Navigator's PWM_OE, GPIO 26 on the Pi; PCA9685 /OE is active low: low =
+// outputs driven, high = every output off): with an OE line the backend drives it high from the
+// start and at every (re)initialisation of the chip, and low only after a whole cycle of pulses
+// went out to an initialised chip (neutral while disarmed: the ESC node's safe output), so the
+// ESCs see no pulse until tiller-esc runs and writes its safe values; the destructor (and the
+// exit: the board's pull-up) drives it high again.
 #pragma once
 
+#include <memory>
 #include <string>
 
 #include "esc/backend.hpp"
+#include "gpio/output.hpp"
 #include "i2c/transport.hpp"
 
 namespace tiller::esc {
@@ -28,6 +36,8 @@ struct Pca9685Params {
   double external_clock_hz = 0;         // > 0: EXTCLK input at this frequency
   bool totem_pole = true;               // MODE2 OUTDRV
   PulseRange pulse;                     // default for every channel
+  std::string oe_chip = "gpiochip0";    // output-enable line's GPIO chip
+  int oe_line = -1;                     // its offset; -1: no OE line
 };
 
 namespace pca9685 {
@@ -45,6 +55,11 @@ double tick_us(const Pca9685Params& p);
 class Pca9685Backend : public EscBackend {
  public:
   Pca9685Backend(i2c::Transport& bus, Pca9685Params p, std::vector<EscChannelParams> escs);
+  ~Pca9685Backend() override;
+  // The output-enable line (requested high: outputs off). Without one, outputs follow the chip.
+  void set_output_enable(std::unique_ptr<gpio::OutputLine> oe);
+  // True while OE is driven low (outputs on); always true without an OE line.
+  bool outputs_enabled() const { return !oe_ || oe_->level() == 0; }
   std::int8_t unit() const override;
   std::string bus() const override { return bus_.name(); }
   StartReport start(TimeUs now) override;
@@ -68,6 +83,7 @@ class Pca9685Backend : public EscBackend {
   bool initialised_ = false;
   TimeUs next_check_ = 0;
   std::int64_t reinits_ = 0;
+  std::unique_ptr<gpio::OutputLine> oe_;
 };
 
 }  // namespace tiller::esc

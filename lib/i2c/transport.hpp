@@ -44,6 +44,12 @@ class Transport {
   virtual std::string name() const = 0;
 };
 
+// One register write: [reg, value] to `addr` (the 8-bit register maps of the sensor chips).
+inline int write_reg(Transport& bus, std::uint8_t addr, std::uint8_t reg, std::uint8_t value) {
+  const std::uint8_t b[2] = {reg, value};
+  return bus.write(addr, b, 2);
+}
+
 // True for the errno values an I2C bus reports for a transaction that failed on the wire
 // (as opposed to a programming error such as EINVAL or EBADF).
 bool is_bus_error(int err);

@@ -1,6 +1,7 @@
 #include "launch/plan.hpp"
 
 #include <algorithm>
+#include <filesystem>
 #include <ostream>
 #include <stdexcept>
 
@@ -77,6 +78,23 @@ Plan make_plan(LaunchFile lf, const LaunchChoices& c, const std::string& stamp,
 
 std::string log_suffix(const LoggerSpec& l) {
   return l.rotate > 0 ? ".0" : l.split_mb > 0 ? ".00" : "";
+}
+
+std::string rotate_previous_logs(const std::string& log_file, int rotate) {
+  namespace fs = std::filesystem;
+  std::string problems;
+  std::error_code ec;
+  for (int k = rotate - 1; k >= 0; --k) {
+    const fs::path from = log_file + "." + std::to_string(k);
+    if (!fs::exists(from, ec)) continue;
+    if (k == rotate - 1) {
+      fs::remove(from, ec);
+    } else {
+      fs::rename(from, log_file + "." + std::to_string(k + 1), ec);
+    }
+    if (ec) problems += "cannot move " + from.string() + " out of the way: " + ec.message() + "\n";
+  }
+  return problems;
 }
 
 std::string log_stem(const std::string& log_file) {

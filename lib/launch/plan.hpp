@@ -41,6 +41,12 @@ Plan make_plan(LaunchFile lf, const LaunchChoices& c, const std::string& stamp,
 
 // What lcm-logger appends to the file name: .0 with rotate (the newest), .00 with split parts.
 std::string log_suffix(const LoggerSpec& l);
+// One log per launch with rotate: lcm-logger 1.4 --rotate only rotates when it splits, so a new
+// launch would reopen the last run's FILE.0. Before the logger starts, this moves FILE.k to
+// FILE.(k+1) for k = rotate-2 .. 0 (FILE.(rotate-1), the oldest, is removed), so the run starts
+// a new FILE.0 and the bound stays `rotate` files. Returns one line per file it could not move
+// (empty: all went). Not called by --check, which creates, moves and removes nothing.
+std::string rotate_previous_logs(const std::string& log_file, int rotate);
 // The log's name without .lcmlog (the manifest is <stem>.replay.yaml).
 std::string log_stem(const std::string& log_file);
 // $XDG_RUNTIME_DIR (else /tmp) + /tiller-launch-<name>.status; `runtime_dir` may be empty.

@@ -31,6 +31,20 @@ void diagonal(double* cov, double std) {
 }
 }  // namespace
 
+bno055::Mount load_mount(const config::Value& m) {
+  bno055::Mount mount;
+  const char* keys[3] = {"forward", "right", "down"};
+  for (int i = 0; i < 3; ++i) {
+    if (const auto a = m.find(keys[i])) parse_axis(*a, mount.axis[i], mount.sign[i]);
+  }
+  if (!bno055::is_rotation(mount)) {
+    m.fail(
+        "forward, right and down along three different chip axes forming a right-handed "
+        "frame (e.g. forward: +y, right: +x, down: -z)");
+  }
+  return mount;
+}
+
 ImuParams load_imu_params(const config::Value& root) {
   ImuParams p;
   p.bus = root.string_or("bus", p.bus);
@@ -39,17 +53,7 @@ ImuParams load_imu_params(const config::Value& root) {
                ? bno055::kModeNdof
                : bno055::kModeNdofFmcOff;
   p.rate_hz = root.number_or("rate_hz", p.rate_hz, {1, 100});
-  if (const auto m = root.find("mount")) {
-    const char* keys[3] = {"forward", "right", "down"};
-    for (int i = 0; i < 3; ++i) {
-      if (const auto a = m->find(keys[i])) parse_axis(*a, p.mount.axis[i], p.mount.sign[i]);
-    }
-    if (!bno055::is_rotation(p.mount)) {
-      m->fail(
-          "forward, right and down along three different chip axes forming a right-handed "
-          "frame (e.g. forward: +y, right: +x, down: -z)");
-    }
-  }
+  if (const auto m = root.find("mount")) p.mount = load_mount(*m);
   if (root.has("declination_deg")) {
     p.true_north = true;
     p.declination = root.angle_deg("declination_deg", {-180, 180});

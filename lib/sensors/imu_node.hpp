@@ -53,6 +53,9 @@ struct ImuParams {
   int fault_after = 5;
 };
 
+// A `mount: {forward: +y, right: +x, down: -z}` block (which signed chip axis lies along each
+// body axis); also tiller-navigator's.
+bno055::Mount load_mount(const config::Value& m);
 // Strict loader: every error names the file, the key and what was expected.
 ImuParams load_imu_params(const config::Value& root);
 ImuParams load_imu_file(const std::string& path);

@@ -9,8 +9,10 @@
 
 #include <tiller/esc_bus_status_t.hpp>
 
+#include "esc/fake/fake_i2c.hpp"
 #include "esc/pca9685_backend.hpp"
 #include "esc_rig.hpp"
+#include "gpio/output.hpp"
 
 namespace tiller::test {
 namespace {
@@ -163,6 +165,60 @@ TEST(Pca9685, ExternalClockIsSetWhileAsleep) {
   EXPECT_EQ(log[4].wrote, (Bytes{0x00, 0x60}));  // wake, EXTCLK kept
   EXPECT_EQ(r.pca->reg(0x00) & 0x40, 0x40);
   EXPECT_NEAR(r.pca->pwm_hz(), 20e6 / (4096.0 * 98), 1e-9);
+}
+
+// Issue 33: the Navigator's PWM_OE. Outputs stay off (OE high) until a cycle of neutral pulses
+// went out to an initialised chip, go off again while the chip is set up after a brown-out, and
+// off when the backend goes (tiller-esc exits).
+TEST(Pca9685, OutputEnableLowOnlyAfterSafePulsesOnAnInitialisedChip) {
+  struct Shared : gpio::OutputLine {  // forwards to a line the test keeps
+    explicit Shared(gpio::FakeOutputLine* l) : l_(l) {}
+    int set(int v) override { return l_->set(v); }
+    int level() const override { return l_->level(); }
+    std::string name() const override { return l_->name(); }
+    gpio::FakeOutputLine* l_;
+  };
+  gpio::FakeOutputLine oe(1, "gpiochip0:26");
+  i2c::FakeBus bus;
+  esc::fake::Pca9685Model chip;
+  esc::Pca9685Params p;
+  p.external_clock_hz = 24.576e6;  // the Navigator's oscillator
+  std::vector<esc::EscChannelParams> escs(2);
+  escs[1].address = 1;
+  {
+    esc::Pca9685Backend b(bus, p, escs);
+    b.set_output_enable(std::make_unique<Shared>(&oe));
+    EXPECT_EQ(oe.level(), 1);
+    // No board: start fails, outputs stay off, and writes do not enable them.
+    EXPECT_FALSE(b.start(0).all_present);
+    const std::int32_t neutral[2] = {1500, 1500};
+    b.write(neutral, 10'000);
+    EXPECT_EQ(oe.level(), 1);
+    EXPECT_FALSE(b.outputs_enabled());
+    // The board answers: start() initialises it and writes neutral -> OE low.
+    bus.attach(0x40, &chip);
+    b.start(20'000);
+    EXPECT_EQ(oe.level(), 0);
+    EXPECT_TRUE(b.outputs_enabled());
+    EXPECT_EQ(chip.reg(0x00) & 0x40, 0x40);  // EXTCLK
+    // Brown-out: the chip comes back asleep; the check at 1 s sets it up again with OE high,
+    // and the next cycle's pulses enable the outputs again.
+    chip.power_cycle();
+    b.poll_telemetry(2'000'000);
+    EXPECT_EQ(oe.level(), 1);
+    b.write(neutral, 2'010'000);
+    EXPECT_EQ(oe.level(), 0);
+    EXPECT_EQ(oe.changes, 3);
+  }
+  EXPECT_EQ(oe.level(), 1);  // the process let go: outputs off
+}
+
+TEST(Pca9685, OutputEnableLineIsReadFromTheConfig) {
+  const auto cfg = parse_config(pca_yaml(", output_enable: {chip: gpiochip0, line: 26}"));
+  EXPECT_EQ(cfg.pca9685.oe_chip, "gpiochip0");
+  EXPECT_EQ(cfg.pca9685.oe_line, 26);
+  EXPECT_EQ(parse_config(pca_yaml()).pca9685.oe_line, -1);
+  EXPECT_THROW(parse_config(pca_yaml(", output_enable: {line: -1}")), std::exception);
 }
 
 TEST(Pca9685, ModelPrescaleOnlyWhileAsleep) {

@@ -83,6 +83,35 @@ namespace {
 
 // lcm-logger gets the URL as --lcm-url= (1.3.1's -l is broken), last before the file name (given
 // before --split-mb it loses the name), and split/rotate from the launch file.
+// Issue 33: --check validates a real-vehicle file without creating, moving or removing a file:
+// the log directory (with a previous run's .0 in it) is the same afterwards, nothing else made.
+TEST(LaunchFiles, CheckCreatesNoFile) {
+  const fs::path dir = fs::temp_directory_path() / ("check-no-file-" + std::to_string(::getpid()));
+  fs::remove_all(dir);
+  fs::create_directories(dir / "logs");
+  { std::ofstream(dir / "logs" / "real-bluerov2.lcmlog.0") << "last run"; }
+  const fs::path key = dir / "vehicle.key";
+  ASSERT_EQ(
+      std::system((std::string(TILLER_BIN_DIR) + "/tiller-key new " + key.string() + " > /dev/null")
+                      .c_str()),
+      0);
+  const auto listing = [&] {
+    std::vector<std::string> names;
+    for (const auto& e : fs::recursive_directory_iterator(dir)) names.push_back(e.path().string());
+    std::sort(names.begin(), names.end());
+    return names;
+  };
+  const auto before = listing();
+  const std::string cmd = "TILLER_KEY_FILE=" + key.string() + " " + TILLER_BIN_DIR +
+                          "/tiller-launch --check --log-dir " + (dir / "logs").string() + " " +
+                          TILLER_SOURCE_DIR + "/config/launch/real_bluerov2.yaml > /dev/null";
+  EXPECT_EQ(std::system(cmd.c_str()), 0);
+  EXPECT_EQ(listing(), before);
+  std::ifstream in(dir / "logs" / "real-bluerov2.lcmlog.0");
+  EXPECT_EQ(std::string(std::istreambuf_iterator<char>(in), {}), "last run");
+  fs::remove_all(dir);
+}
+
 TEST(LaunchFiles, LoggerCommandLineFromConfig) {
   const fs::path dir =
       fs::temp_directory_path() / ("tiller-logger-args-" + std::to_string(::getpid()));

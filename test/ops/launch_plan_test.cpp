@@ -4,6 +4,10 @@
 // processes, the replay manifest's content and the --check printout.
 #include <gtest/gtest.h>
 
+#include <unistd.h>
+
+#include <filesystem>
+#include <fstream>
 #include <sstream>
 
 #include "core/config.hpp"
@@ -135,6 +139,40 @@ TEST(LaunchPlan, MissingProgramIsNamedWithItsLine) {
                            "on PATH, got \"tiller-no-such-program\""),
             std::string::npos)
       << err.str();
+}
+
+// Issue 33: a second launch with rotate reopened the last run's FILE.0 (lcm-logger --rotate
+// rotates only when it splits). Before the logger starts, the previous files move up one.
+TEST(LaunchPlan, RotatePreviousLogsStartsEachLaunchOnANewFile) {
+  namespace fs = std::filesystem;
+  const fs::path dir = fs::temp_directory_path() / ("rotate_test_" + std::to_string(getpid()));
+  fs::remove_all(dir);
+  fs::create_directories(dir);
+  const std::string file = (dir / "real-usv.lcmlog").string();
+  const auto write = [](const std::string& f, const std::string& text) {
+    std::ofstream(f) << text;
+  };
+  const auto read = [](const std::string& f) {
+    std::ifstream in(f);
+    return std::string(std::istreambuf_iterator<char>(in), {});
+  };
+  EXPECT_EQ(rotate_previous_logs(file, 3), "");  // first launch: nothing there
+  write(file + ".0", "run 1");
+  EXPECT_EQ(rotate_previous_logs(file, 3), "");
+  EXPECT_FALSE(fs::exists(file + ".0"));
+  EXPECT_EQ(read(file + ".1"), "run 1");
+  write(file + ".0", "run 2");
+  rotate_previous_logs(file, 3);
+  write(file + ".0", "run 3");
+  rotate_previous_logs(file, 3);  // run 1 was the oldest of 3: gone
+  EXPECT_FALSE(fs::exists(file + ".0"));
+  EXPECT_EQ(read(file + ".1"), "run 3");
+  EXPECT_EQ(read(file + ".2"), "run 2");
+  EXPECT_FALSE(fs::exists(file + ".3"));
+  int files = 0;
+  for ([[maybe_unused]] const auto& e : fs::directory_iterator(dir)) ++files;
+  EXPECT_EQ(files, 2);
+  fs::remove_all(dir);
 }
 
 }  // namespace

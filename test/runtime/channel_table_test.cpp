@@ -42,9 +42,11 @@
 #include "sensors/gpio.hpp"
 #include "sensors/imu_node.hpp"
 #include "sensors/leak_node.hpp"
+#include "sensors/navigator_node.hpp"
 #include "sensors/power_node.hpp"
 #include "sensors/pressure_node.hpp"
 #include "sim/sim_node.hpp"
+#include "spi/fake_spi.hpp"
 #include "teleop/stick_script.hpp"
 #include "teleop/teleop_node.hpp"
 #include "teleop/teleop_params.hpp"
@@ -177,6 +179,10 @@ std::vector<Program> programs() {
                          sensors::load_gnss_file(kRoot + "/config/sensors/gnss_gpsd.yaml")));
   add("tiller-imu", std::make_unique<sensors::ImuNode>(
                         sensors::load_imu_file(kRoot + "/config/sensors/imu_bno055.yaml"), i2c));
+  static spi::FakeSpi spi;
+  add("tiller-navigator",
+      std::make_unique<sensors::NavigatorNode>(
+          sensors::load_navigator_file(kRoot + "/config/sensors/navigator.yaml"), spi, i2c));
   add("tiller-power",
       std::make_unique<sensors::PowerNode>(
           sensors::load_power_file(kRoot + "/config/sensors/power_ina226.yaml"), i2c));

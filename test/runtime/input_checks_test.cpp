@@ -55,9 +55,11 @@
 #include "sensors/gpio.hpp"
 #include "sensors/imu_node.hpp"
 #include "sensors/leak_node.hpp"
+#include "sensors/navigator_node.hpp"
 #include "sensors/power_node.hpp"
 #include "sensors/pressure_node.hpp"
 #include "sim/sim_node.hpp"
+#include "spi/fake_spi.hpp"
 #include "teleop/stick_script.hpp"
 #include "teleop/teleop_node.hpp"
 #include "teleop/teleop_params.hpp"
@@ -230,6 +232,14 @@ std::vector<NodeCase> node_cases() {
     out.push_back({"ImuNode", "tiller-imu " + rel(f), [f](InputContext&) {
                      return std::make_unique<sensors::ImuNode>(sensors::load_imu_file(f),
                                                                fake_bus());
+                   }});
+  }
+  for (const auto& f : shipped("sensors")) {
+    if (fs::path(f).filename().string().rfind("navigator", 0) != 0) continue;
+    out.push_back({"NavigatorNode", "tiller-navigator " + rel(f), [f](InputContext&) {
+                     static spi::FakeSpi spi;
+                     return std::make_unique<sensors::NavigatorNode>(
+                         sensors::load_navigator_file(f), spi, fake_bus());
                    }});
   }
   for (const auto& f : shipped("sensors")) {
