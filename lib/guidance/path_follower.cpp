@@ -431,7 +431,9 @@ FollowerOutput PathFollower::update(const Vec2& pos, double heading, double dt) 
       last_heading_valid_ = true;
     }
   } else if (speed > 1e-3) {
-    last_heading_ = wrap_pi(std::atan2(v.y(), v.x()) + course_rate * p_.heading_lead_s);
+    last_heading_ = std::atan2(v.y(), v.x());
+    // (wrap_pi only with a lead: off an arc the heading stays bit for bit what it was.)
+    if (course_rate != 0) last_heading_ = wrap_pi(last_heading_ + course_rate * p_.heading_lead_s);
     last_heading_valid_ = true;
     along_velocity = true;
   }
