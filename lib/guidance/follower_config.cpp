@@ -84,6 +84,10 @@ FollowerParams load_follower_params(const config::Value& v) {
   p.integral_zone = v.number("integral_zone", nonneg);
   p.turn_rate = v.number("turn_rate", {0, 10});
   p.turn_drift_rate = v.number("turn_drift_rate", {0, 10});
+  // Corners along an arc (issue 35); absent: off, as before.
+  p.turn_arc = v.boolean_or("turn_arc", false);
+  p.turn_arc_inside_max = v.number_or("turn_arc_inside_max", 0.5, {0.01, 100});
+  p.heading_lead_s = v.number_or("heading_lead_s", 0, {0, 10});
   return p;
 }
 

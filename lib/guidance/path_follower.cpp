@@ -20,6 +20,20 @@ void PathFollower::clear() {
   state_ = 0;
   world_integral_.setZero();
   crab_world_.setZero();
+  on_arc_ = false;
+}
+
+void PathFollower::arc_for(double angle, double& radius, double& speed) const {
+  radius = 0;
+  speed = 0;
+  if (!p_.turn_arc || !(p_.turn_rate > 0) || angle < 1e-3 || angle > 2 * kPi / 3) return;
+  speed = p_.max_speed * turn_factor(angle);
+  radius = speed / p_.turn_rate;
+  const double inside = 1 / std::cos(angle / 2) - 1;  // per metre of radius
+  if (radius * inside > p_.turn_arc_inside_max) {
+    radius = p_.turn_arc_inside_max / inside;
+    speed = radius * p_.turn_rate;
+  }
 }
 
 bool PathFollower::set_path(const std::vector<Waypoint>& points, const Vec2& vehicle,
@@ -204,15 +218,26 @@ FollowerOutput PathFollower::update(const Vec2& pos, double heading, double dt) 
     const bool last = seg_ + 1 == n - 1;
     const bool reached = d2 < p_.acceptance_radius;
     bool cut = !last && d2 < p_.corner_cut_radius;
+    bool arc_cut = false;  // left at the arc's start: the corner is flown along it
     if (!last && p_.turn_rate > 0 && rel == SegmentRelation::kMiddle) {
       // Turn anticipation: leave the segment at the wheel-over point.
       const Vec2 t1 = s.normalized();
       const Vec2 t2 = (pts_[static_cast<std::size_t>(seg_ + 2)].position - p2).normalized();
       const double angle = std::acos(std::clamp(t1.dot(t2), -1.0, 1.0));
-      const double wo0 = wheel_over(angle, p_.max_speed * turn_factor(angle));
-      const double wo = wo0 + drift_lead(t1, t2, angle);
+      double radius = 0, speed = 0;
+      arc_for(angle, radius, speed);
+      const double wo0 = radius > 0 ? radius * std::tan(angle / 2)
+                                    : wheel_over(angle, p_.max_speed * turn_factor(angle));
+      const double wo = wo0 + (radius > 0 ? 0.0 : drift_lead(t1, t2, angle));
       const double ahead = t1.dot(p2 - pos);  // along-track distance to p2
-      if (ahead < wo && d2 < 2 * std::max(wo, wo0) + p_.corner_cut_radius) cut = true;
+      if (ahead < wo && d2 < 2 * std::max(wo, wo0) + p_.corner_cut_radius) {
+        cut = true;
+        if (radius > 0) {
+          arc_ = make_turn_arc(p2, t1, t2, radius);
+          arc_speed_ = speed;
+          arc_cut = arc_.valid;
+        }
+      }
     }
     if (reached || cut || rel == SegmentRelation::kInFront) {
       const bool skip =
@@ -220,6 +245,7 @@ FollowerOutput PathFollower::update(const Vec2& pos, double heading, double dt) 
       if (skip) ++skipped_;
       carry_state(seg_, seg_ + 1);
       ++seg_;
+      on_arc_ = arc_cut && !reached;
       entered_by_cut_ = cut;
       entered_by_skip_ = skip;
       if (last) complete_ = true;
@@ -239,6 +265,7 @@ FollowerOutput PathFollower::update(const Vec2& pos, double heading, double dt) 
         if (entered_by_skip_) --skipped_;
         carry_state(seg_, seg_ - 1);
         --seg_;
+        on_arc_ = false;
         entered_by_cut_ = false;
         entered_by_skip_ = false;
         ++stepped_back_;
@@ -263,7 +290,38 @@ FollowerOutput PathFollower::update(const Vec2& pos, double heading, double dt) 
       v = (goal - pos) / out.distance_to_goal * end_speed(out.distance_to_goal);
     }
     out.along_speed = v.norm();
-  } else {
+  }
+  ArcPosition ap;
+  if (!complete_ && on_arc_) {
+    ap = locate(arc_, pos);
+    if (ap.past_end || std::abs(ap.outside) > p_.parallel_cutoff_distance) on_arc_ = false;
+  }
+  double course_rate = 0;  // rad/s: the course's turn rate on an arc (+ clockwise)
+  if (!complete_ && on_arc_) {
+    // The corner along its arc: U along it, the approach to it and the current correction's
+    // radial part along the radius (path_follower.hpp).
+    const Vec2& p1 = pts_[static_cast<std::size_t>(seg_)].position;
+    const Vec2& p2 = pts_[static_cast<std::size_t>(seg_ + 1)].position;
+    const Vec2 t = (p2 - p1).normalized();
+    out.segment = seg_;
+    out.on_arc = true;
+    out.cross_track = -arc_.sign * ap.outside;  // outside a right turn is left of the track
+    out.along_track_remaining = (p2 - p1).norm() - t.dot(pos - p1);
+    out.remaining_path =
+        std::max(0.0, out.along_track_remaining) + tail_length_[static_cast<std::size_t>(seg_ + 1)];
+    const double u = std::min(arc_speed_, end_speed(out.remaining_path));
+    out.along_speed = u;
+    out.turn_factor = u / p_.max_speed;
+    const double e = ap.outside;
+    out.approach_speed = std::min(p_.approach_max_speed, std::abs(e) / p_.approach_divisor_s);
+    const double radial =
+        (e > 0 ? 1.0 : -1.0) * out.approach_speed - ap.inward.dot(current_estimate());
+    v = ap.tangent * u + ap.inward * radial;
+    const double m = v.norm();
+    if (m > p_.max_speed) v *= p_.max_speed / m;
+    course_rate = arc_.sign * u / arc_.radius;
+    out.crab = crab();
+  } else if (!complete_) {
     const Vec2& p1 = pts_[static_cast<std::size_t>(seg_)].position;
     const Vec2& p2 = pts_[static_cast<std::size_t>(seg_ + 1)].position;
     const double len = (p2 - p1).norm();
@@ -286,9 +344,15 @@ FollowerOutput PathFollower::update(const Vec2& pos, double heading, double dt) 
     if (seg_ + 2 < n) {
       const Vec2 t2 = (pts_[static_cast<std::size_t>(seg_ + 2)].position - p2).normalized();
       const double angle = std::acos(std::clamp(t.dot(t2), -1.0, 1.0));
-      out.wheel_over =
-          wheel_over(angle, p_.max_speed * turn_factor(angle)) + drift_lead(t, t2, angle);
-      if ((p2 - pos).norm() < p_.turn_slowdown_distance) {
+      double radius = 0, arc_speed = 0;
+      arc_for(angle, radius, arc_speed);
+      out.wheel_over = radius > 0 ? radius * std::tan(angle / 2)
+                                  : wheel_over(angle, p_.max_speed * turn_factor(angle)) +
+                                        drift_lead(t, t2, angle);
+      if (radius > 0 && (p2 - pos).norm() < p_.turn_slowdown_distance + out.wheel_over) {
+        out.turn_factor = arc_speed / p_.max_speed;  // at the arc's speed before it starts
+        along_speed = std::min(along_speed, arc_speed);
+      } else if (radius == 0 && (p2 - pos).norm() < p_.turn_slowdown_distance) {
         out.turn_factor = turn_factor(angle);
         along_speed = std::min(along_speed, p_.max_speed * out.turn_factor);
       }
@@ -368,13 +432,16 @@ FollowerOutput PathFollower::update(const Vec2& pos, double heading, double dt) 
     }
   } else if (speed > 1e-3) {
     last_heading_ = std::atan2(v.y(), v.x());
+    // (wrap_pi only with a lead: off an arc the heading stays bit for bit what it was.)
+    if (course_rate != 0) last_heading_ = wrap_pi(last_heading_ + course_rate * p_.heading_lead_s);
     last_heading_valid_ = true;
     along_velocity = true;
   }
   out.target_heading = last_heading_;
   out.heading_valid = last_heading_valid_;
   if (along_velocity) {
-    const double err = std::abs(angle_diff(last_heading_, heading));
+    // Against the course (the lead on an arc is the heading loop's, not an error to slow for).
+    const double err = std::abs(angle_diff(std::atan2(v.y(), v.x()), heading));
     out.heading_factor = std::max(0.0, 1.0 - err / p_.heading_slowdown_angle);
     v *= out.heading_factor;
   }

@@ -59,6 +59,20 @@
 // to [-R tan(d/2), 3 max(R tan(d/2), 1 m)]. An underactuated boat cannot push sideways while it
 // turns: the turn itself carries it c_out * T outward (issue 13: 1.5 m outside in 0.3 m/s).
 //
+// Corners along an arc (turn_arc): a corner of up to 120 deg is flown along the fillet of radius
+// R = U / turn_rate tangent to both legs (turn_arc.hpp), U the turn's speed (max_speed * the turn
+// factor), R at most what passes turn_arc_inside_max inside the corner (U then R * turn_rate);
+// the segment is left at the arc's start, R tan(d / 2) before the corner (the wheel-over point),
+// and the speed is U from turn_slowdown_distance before it. On the arc the velocity is U along
+// it plus, along the radius, the approach toward the arc (as on a leg, e / approach_divisor_s)
+// and the law's current correction's radial part (current_estimate(): what the legs so far
+// learnt of the current, the whole current from the second corner on): the current is
+// countered through the turn instead of carrying the boat outward at c for the turn's duration.
+// The course turns at U / R; the heading setpoint leads the velocity's direction by that rate
+// times heading_lead_s (the heading loop's lag, 1 / heading_kp for a proportional loop): the
+// course-rate feed-forward a heading-only setpoint can carry. Off the arc by more than
+// parallel_cutoff_distance, or past its end, the follower follows the outgoing leg.
+//
 // Bad paths: consecutive points closer than min_segment_length are merged (repeated points,
 // zero-length segments); a one-point path becomes a segment from the vehicle's position to the
 // point. update() allocates nothing.
@@ -69,6 +83,7 @@
 #include <vector>
 
 #include "core/angles.hpp"
+#include "guidance/turn_arc.hpp"
 
 namespace tiller::guidance {
 
@@ -107,6 +122,10 @@ struct FollowerParams {
   double turn_rate = 0;           // rad/s: wheel-over from R = U / turn_rate; 0: none (the seed)
   double turn_drift_rate = 0;     // rad/s: with turn_rate, the wheel-over moves by the current's
                                   // drift over angle / this (the estimate's outward part); 0: off
+  // Corners along an arc (turn_arc, with turn_rate > 0; turns up to 120 deg): see below.
+  bool turn_arc = false;
+  double turn_arc_inside_max = 0.5;  // m: the arc passes at most this far inside the corner
+  double heading_lead_s = 0;         // s: the heading setpoint leads the course by rate * this
 };
 
 struct Waypoint {
@@ -133,6 +152,7 @@ struct FollowerOutput {
   double along_speed = 0, approach_speed = 0, turn_factor = 1, heading_factor = 1;
   double crab = 0;        // rad: the integral / adaptive state as a crab angle (+ = to the left)
   double wheel_over = 0;  // m before the end point where the segment is left (turn anticipation)
+  bool on_arc = false;    // a corner is flown along its arc (turn_arc)
 };
 
 class PathFollower {
@@ -193,7 +213,12 @@ class PathFollower {
   double state_ = 0;           // y_int (integral) or beta_hat (adaptive), path frame
   Vec2 crab_world_{0, 0};      // integral / adaptive: sin(crab) along the left normal, world frame,
                                // each leg's normal component kept (carry_state)
+  TurnArc arc_;                // the corner being flown (turn_arc)
+  bool on_arc_ = false;
+  double arc_speed_ = 0;  // m/s along it
   double crab() const;
+  // The arc's radius and speed for a turn of `angle` rad (turn_arc); radius 0: no arc.
+  void arc_for(double angle, double& radius, double& speed) const;
   double drift_lead(const Vec2& t1, const Vec2& t2, double angle) const;
 
  public:

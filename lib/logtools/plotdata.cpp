@@ -39,7 +39,7 @@ PlotData write_plot_data(const std::vector<Event>& log, const std::string& dir) 
   pd.trajectory_source = has_truth ? channels::kGroundTruth : channels::kOdometry;
   std::ofstream traj(dir + "/traj.csv"), path(dir + "/path.csv"), sp(dir + "/setpoint.csv"),
       prog(dir + "/progress.csv"), cmd(dir + "/cmd.csv"), alloc(dir + "/alloc.csv"),
-      reached(dir + "/reached.csv"), complete(dir + "/complete.csv");
+      reached(dir + "/reached.csv"), missed(dir + "/missed.csv"), complete(dir + "/complete.csv");
   traj << "t,north,east,heading_deg,speed\n";
   path << "north,east\n";
   sp << "t,speed,heading_deg,active,heading_valid\n";
@@ -47,6 +47,7 @@ PlotData write_plot_data(const std::vector<Event>& log, const std::string& dir) 
   cmd << "t,commands...\n";
   alloc << "t,scale,saturated\n";
   reached << "t,north,east,waypoint\n";
+  missed << "t,north,east,waypoint,closest\n";
   complete << "t,north,east,waypoint\n";
   std::string last_path;
   Decoded d;
@@ -57,10 +58,13 @@ PlotData write_plot_data(const std::vector<Event>& log, const std::string& dir) 
   std::int64_t progress_path = -1;
   int segment = -1;
   bool was_complete = false;
+  struct Point {
+    double t, north, east;
+  };
+  std::vector<Point> track;                   // the trajectory, for the closest approaches
+  std::vector<std::pair<double, double>> wp;  // the latest path's waypoints
   auto mark = [&](double t, int waypoint, bool done) {
     pd.marks.push_back({t, north, east, waypoint, done});
-    (done ? complete : reached) << num(t) << "," << num(north) << "," << num(east) << ","
-                                << waypoint << "\n";
   };
   for (const auto& e : log) {
     const double t = to_seconds(e.time - t0);
@@ -74,14 +78,17 @@ PlotData write_plot_data(const std::vector<Event>& log, const std::string& dir) 
       heading_deg = heading_deg ? unwrap_deg(*heading_deg, yaw) : rad_to_deg(wrap_pi(yaw));
       north = d.number("position[0]");
       east = d.number("position[1]");
+      track.push_back({t, north, east});
       traj << num(t) << "," << num(north) << "," << num(east) << "," << num(*heading_deg) << ","
            << num(std::hypot(d.number("velocity[0]"), d.number("velocity[1]"))) << "\n";
       ++pd.trajectory_rows;
     } else if (ch == channels::kPath) {
       std::ostringstream os;
       const int n = static_cast<int>(d.number("n_waypoints"));
+      wp.clear();
       for (int k = 0; k < n; ++k) {
         const std::string w = "waypoints[" + std::to_string(k) + "].position";
+        wp.emplace_back(d.number(w + "[0]"), d.number(w + "[1]"));
         os << num(d.number(w + "[0]")) << "," << num(d.number(w + "[1]")) << "\n";
       }
       last_path = os.str();
@@ -140,6 +147,33 @@ PlotData write_plot_data(const std::vector<Event>& log, const std::string& dir) 
     }
   }
   path << last_path;
+  // Reached or missed: the closest approach to the waypoint from the previous mark to the next
+  // one (a turn anticipated switches before the point and passes it after the switch).
+  for (std::size_t i = 0; i < pd.marks.size(); ++i) {
+    PlotMark& m = pd.marks[i];
+    const double from = i > 0 ? pd.marks[i - 1].t : -1e300;
+    const double to = i + 1 < pd.marks.size() ? pd.marks[i + 1].t : 1e300;
+    if (!m.complete && m.waypoint >= 0 && static_cast<std::size_t>(m.waypoint) < wp.size()) {
+      double best = 1e300;
+      for (const Point& p : track) {
+        if (p.t < from || p.t > to) continue;
+        best = std::min(best, std::hypot(p.north - wp[static_cast<std::size_t>(m.waypoint)].first,
+                                         p.east - wp[static_cast<std::size_t>(m.waypoint)].second));
+      }
+      if (best < 1e300) {
+        m.closest = best;
+        m.missed = best >= kPlotVisitRadius;
+      }
+    }
+    if (m.complete)
+      complete << num(m.t) << "," << num(m.north) << "," << num(m.east) << "," << m.waypoint
+               << "\n";
+    else if (m.missed)
+      missed << num(m.t) << "," << num(m.north) << "," << num(m.east) << "," << m.waypoint << ","
+             << num(m.closest) << "\n";
+    else
+      reached << num(m.t) << "," << num(m.north) << "," << num(m.east) << "," << m.waypoint << "\n";
+  }
   return pd;
 }
 
@@ -152,8 +186,8 @@ std::string gnuplot_script(const PlotData& d, const std::string& dir, const std:
     if (plot == "plot ") plot = "plot 0 notitle, ";
     return plot.substr(0, plot.size() - 2) + "\n";
   };
-  std::size_t n_reached = 0, n_complete = 0;
-  for (const auto& m : d.marks) ++(m.complete ? n_complete : n_reached);
+  std::size_t n_reached = 0, n_missed = 0, n_complete = 0;
+  for (const auto& m : d.marks) ++(m.complete ? n_complete : (m.missed ? n_missed : n_reached));
   g << "set terminal pngcairo size 1600,1200 font 'sans,10' noenhanced\n"
     << "set output '" << png << "'\n"
     << "set datafile separator ','\nset key top right font 'sans,8'\nset grid\n"
@@ -173,6 +207,11 @@ std::string gnuplot_script(const PlotData& d, const std::string& dir, const std:
     plot += f("reached.csv") +
             " every ::1 using 3:2:(sprintf('%d', $4)) with labels point pt 5 ps 1.2 offset 1,1 "
             "title 'waypoint reached (index)', ";
+  if (n_missed)
+    plot += f("missed.csv") +
+            " every ::1 using 3:2:(sprintf('%d missed, %.2f m', $4, $5)) with labels point pt 2 "
+            "ps 2 lc rgb 'red' tc rgb 'red' offset 1,-1 title 'waypoint MISSED (index, closest "
+            "approach)', ";
   if (n_complete)
     plot += f("complete.csv") +
             " every ::1 using 3:2 with points pt 9 ps 2.5 lc rgb 'dark-green' title 'mission "
@@ -185,7 +224,8 @@ std::string gnuplot_script(const PlotData& d, const std::string& dir, const std:
     g << "set arrow " << tag << " from first " << num(m.t) << ", graph 0 to first " << num(m.t)
       << ", graph 1 nohead " << (m.complete ? "lw 2 lc rgb 'dark-green'" : "dt 3 lc rgb 'gray40'")
       << " back\n"
-      << "set label " << tag << " '" << (m.complete ? "complete" : std::to_string(m.waypoint))
+      << "set label " << tag << " '"
+      << (m.complete ? "complete" : std::to_string(m.waypoint) + (m.missed ? " missed" : ""))
       << "' at first " << num(m.t) << ", graph 0.03 offset 0.3,0 font 'sans,7'\n";
     ++tag;
   }

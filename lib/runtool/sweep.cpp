@@ -59,7 +59,7 @@ std::string encode_row(const Row& r) {
      << " " << r.missed << " " << r.steady_rms << " " << r.overshoot << " " << r.max_setpoint << " "
      << r.max_speed << " " << r.path_m << " " << r.final_30 << " " << r.est_rms << " "
      << r.est_head_deg << " " << r.est_xte_rms << " " << r.est_steady_rms << " " << r.est_missed
-     << "\n";
+     << " " << r.weaving << "\n";
   return os.str();
 }
 
@@ -72,7 +72,7 @@ Row decode_row(const std::string& text) {
     is >> r.completed >> r.xte_rms >> r.xte_max >> r.time_s >> r.final_m >> r.heading_rad >>
         r.vrx_way >> r.vrx_sk >> r.sim_s >> r.missed >> r.steady_rms >> r.overshoot >>
         r.max_setpoint >> r.max_speed >> r.path_m >> r.final_30 >> r.est_rms >> r.est_head_deg >>
-        r.est_xte_rms >> r.est_steady_rms >> r.est_missed;
+        r.est_xte_rms >> r.est_steady_rms >> r.est_missed >> r.weaving;
     r.ok = !is.fail();
     if (!r.ok) r.error = "unreadable result '" + text + "'";
   } else if (tag == "error") {
@@ -224,19 +224,17 @@ Row row_of(const RunOutcome& o) {
   r.vrx_sk = o.scores.station_keeping;
   r.sim_s = o.sim_s;
   r.missed = p.waypoints_missed;
-  const auto c = scores::corner_scores(o.scores.poses, o.scores.path, o.scores.start, 60,
-                                       o.completed ? o.completed_at : 1e300);
+  const auto& c = o.scores.corners;  // the one definition, as tiller-score prints it
   r.steady_rms = c.steady_cross_track_rms;
+  r.weaving = c.weaving;
   if (o.estimated) {
     r.est_rms = o.scores.position_error_rms;
     r.est_head_deg = o.scores.heading_error_rms * 180.0 / M_PI;
     if (o.scores.estimate_path_scores) {
       r.est_xte_rms = o.scores.estimate_path_scores->cross_track_rms;
       r.est_missed = o.scores.estimate_path_scores->waypoints_missed;
-      r.est_steady_rms =
-          scores::corner_scores(o.scores.estimate_poses, o.scores.estimate_path, o.scores.start, 60,
-                                o.completed ? o.completed_at : 1e300)
-              .steady_cross_track_rms;
+      if (o.scores.estimate_corners)
+        r.est_steady_rms = o.scores.estimate_corners->steady_cross_track_rms;
     }
   }
   r.overshoot = c.max_overshoot;
@@ -348,8 +346,10 @@ constexpr Metric kMetrics[] = {
     {"final_m", "final position error [m]", &Row::final_m},
     {"vrx_way", "VRX wayfinding", &Row::vrx_way},
     {"vrx_sk", "VRX station keeping", &Row::vrx_sk},
-    {"steady_rms", "steady cross-track RMS (60 s after each passage) [m]", &Row::steady_rms},
+    {"steady_rms", "steady cross-track RMS (60 s after each passage, 10 m before each corner) [m]",
+     &Row::steady_rms},
     {"overshoot", "largest corner overshoot [m]", &Row::overshoot},
+    {"weaving", "weaving: RMS heading rate on the steady stretches [rad/s]", &Row::weaving},
     {"max_sp", "largest speed setpoint [m/s]", &Row::max_setpoint},
 };
 
@@ -357,7 +357,9 @@ constexpr Metric kMetrics[] = {
 double value_of(const Row& r, const Metric& m) {
   if (!r.ok) return NAN;
   const double v = r.*m.field;
-  if ((m.field == &Row::time_s || m.field == &Row::vrx_sk || m.field == &Row::steady_rms) && v < 0)
+  if ((m.field == &Row::time_s || m.field == &Row::vrx_sk || m.field == &Row::steady_rms ||
+       m.field == &Row::weaving) &&
+      v < 0)
     return NAN;
   return v;
 }
@@ -376,9 +378,9 @@ void print_table(const std::vector<Axis>& axes, const std::vector<Row>& rows, st
   // estimate (the pose the follower followed).
   bool estimated = false;
   for (const auto& r : rows) estimated |= r.ok && r.est_rms >= 0;
-  std::fprintf(out, "%8s %8s %7s %8s %8s %8s %10s %9s %7s %6s %5s", "xte_rms", "xte_max", "time_s",
-               "final_m", "vrx_way", "vrx_sk", "steady_rms", "overshoot", "max_sp", "missed",
-               "done");
+  std::fprintf(out, "%8s %8s %7s %8s %8s %8s %10s %9s %8s %7s %6s %5s", "xte_rms", "xte_max",
+               "time_s", "final_m", "vrx_way", "vrx_sk", "steady_rms", "overshoot", "weaving",
+               "max_sp", "missed", "done");
   if (estimated) std::fprintf(out, " %7s %11s %10s", "est_rms", "est_xte_rms", "est_missed");
   std::fprintf(out, "\n");
   for (const auto& r : rows) {
@@ -390,8 +392,10 @@ void print_table(const std::vector<Axis>& axes, const std::vector<Row>& rows, st
     }
     char steady[16] = "         -";  // no leg long enough
     if (r.steady_rms >= 0) std::snprintf(steady, sizeof steady, "%10.4f", r.steady_rms);
-    std::fprintf(out, "%8.3f %8.3f %7.1f %8.3f %8.3f %8.3f %s %9.3f %6.3f%s %6d %5s", r.xte_rms,
-                 r.xte_max, r.time_s, r.final_m, r.vrx_way, r.vrx_sk, steady, r.overshoot,
+    char weave[16] = "       -";
+    if (r.weaving >= 0) std::snprintf(weave, sizeof weave, "%8.4f", r.weaving);
+    std::fprintf(out, "%8.3f %8.3f %7.1f %8.3f %8.3f %8.3f %s %9.3f %s %6.3f%s %6d %5s", r.xte_rms,
+                 r.xte_max, r.time_s, r.final_m, r.vrx_way, r.vrx_sk, steady, r.overshoot, weave,
                  r.max_setpoint, r.max_setpoint > r.max_speed + 1e-9 ? "!" : " ", r.missed,
                  r.completed ? "yes" : "no");
     if (estimated) std::fprintf(out, " %7.3f %11.3f %10d", r.est_rms, r.est_xte_rms, r.est_missed);

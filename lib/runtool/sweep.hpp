@@ -52,10 +52,12 @@ struct Row {
   double xte_rms = 0, xte_max = 0, time_s = -1, final_m = 0, heading_rad = -1, vrx_way = 0,
          vrx_sk = -1, sim_s = 0;
   int missed = 0;
-  // lib/scores/path_metrics.hpp up to the path's completion: steady cross-track RMS (from 60 s
-  // after each waypoint passage; -1: no leg that long), largest corner overshoot (m); and the
-  // largest speed setpoint (m/s) with the follower's max_speed.
-  double steady_rms = -1, overshoot = 0, max_setpoint = 0, max_speed = 0;
+  // lib/scores/path_metrics.hpp up to the path's completion (RunScores::corners, as tiller-score
+  // prints it): steady cross-track RMS (from 60 s after each waypoint passage to 10 m before the
+  // next; -1: no leg that long), largest corner overshoot (m), weaving (RMS heading rate on the
+  // steady stretches, rad/s; -1: none); and the largest speed setpoint (m/s) with the
+  // follower's max_speed.
+  double steady_rms = -1, overshoot = 0, weaving = -1, max_setpoint = 0, max_speed = 0;
   double path_m = 0;     // m: the length of the path as followed (for time / (length / cruise))
   double final_30 = -1;  // m: distance to the goal 30 s after completion (or at the end); -1: none
   double est_rms = -1, est_head_deg = -1;  // estimation error RMS (m, deg); -1: on the truth

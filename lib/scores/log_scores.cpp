@@ -60,12 +60,16 @@ RunScores score_events(const std::vector<Event>& events, const std::vector<Goal>
   // cross-track would be the distance to the goal).
   r.path = path_as_followed(path, r.poses, start);
   r.path_scores = score_path(r.poses, r.path, start, complete_at);
+  const double end = complete_at ? *complete_at : 1e300;
+  r.corners = corner_scores(r.poses, r.path, start, SteadyWindow{}.settle_s, end);
   r.samples = r.poses.size();
   if (have_truth && !estimate.empty()) {
     score_estimation(estimate_at, truth_at, r, start);
     // The follower followed the estimate: a one-point path from where the estimate was.
     r.estimate_path = path_as_followed(path, estimate, start);
     r.estimate_path_scores = score_path(estimate, r.estimate_path, start, complete_at);
+    r.estimate_corners =
+        corner_scores(estimate, r.estimate_path, start, SteadyWindow{}.settle_s, end);
     r.estimate_poses = std::move(estimate);
   }
   r.start = start;
@@ -127,6 +131,25 @@ void print_scores(const RunScores& r, std::FILE* out) {
     std::fprintf(out, "time to complete    not completed\n");
   std::fprintf(out, "cross-track RMS     %.3f m (max %.3f m)\n", s.cross_track_rms,
                s.cross_track_max);
+  const auto& c = r.corners;
+  const SteadyWindow w;
+  if (c.steady_cross_track_rms >= 0)
+    std::fprintf(out,
+                 "steady cross-track  %.4f m RMS (%.0f s after each waypoint's passage to %.0f m "
+                 "before the next, %d samples)\n",
+                 c.steady_cross_track_rms, w.settle_s, w.end_margin_m, c.steady_samples);
+  else
+    std::fprintf(out, "steady cross-track  - (no leg longer than %.0f s + %.0f m)\n", w.settle_s,
+                 w.end_margin_m);
+  if (!c.overshoot.empty()) {
+    std::fprintf(out, "corner overshoot    %.3f m (largest of %zu corners:", c.max_overshoot,
+                 c.overshoot.size());
+    for (const double o : c.overshoot) std::fprintf(out, " %.2f", o);
+    std::fprintf(out, ")\n");
+  }
+  if (c.weaving >= 0)
+    std::fprintf(out, "weaving             %.4f rad/s RMS heading rate on the steady stretches\n",
+                 c.weaving);
   std::fprintf(out, "final position err  %.3f m\n", s.final_position_error);
   if (s.final_heading_error >= 0)
     std::fprintf(out, "final heading err   %.3f rad\n", s.final_heading_error);

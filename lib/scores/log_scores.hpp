@@ -14,6 +14,7 @@
 #include <vector>
 
 #include "runtime/event.hpp"
+#include "scores/path_metrics.hpp"
 #include "scores/scores.hpp"
 
 namespace tiller::scores {
@@ -23,6 +24,9 @@ struct RunScores {
   std::size_t samples = 0;   // poses scored
   std::vector<Goal> path;    // as followed (path_as_followed)
   PathScores path_scores;
+  // Steady cross-track, corner overshoot and weaving (path_metrics.hpp: the one definition) up to
+  // the path's completion (the end of the log when not completed).
+  CornerScores corners;
   double start = 0;              // s: first TILLER_PATH (else the first pose)
   double end = 0;                // s: last pose
   double station_keeping = -1;   // VRX station keeping from completion to the end; -1: none
@@ -45,6 +49,7 @@ struct RunScores {
   std::vector<Pose> estimate_poses;
   std::vector<Goal> estimate_path;  // path_as_followed from the estimate
   std::optional<PathScores> estimate_path_scores;
+  std::optional<CornerScores> estimate_corners;
   // The odometry is an estimate (differs from the truth by more than 1 um somewhere), not the
   // truth re-published (which the interpolation puts within about 1e-18 m of it).
   bool estimated() const { return estimation_samples > 0 && position_error_max > 1e-6; }
@@ -66,8 +71,9 @@ RunScores score_events(const std::vector<Event>& events,
 // The channels score_events reads (a regex for read_log).
 inline constexpr const char* kScoredChannels = "TILLER_(GROUND_TRUTH|ODOMETRY|PATH|PATH_PROGRESS)";
 
-// tiller-score's lines ("pose from ...", "waypoints ...", ..., "VRX station keeping ..."); on
-// estimated state also "estimation error ..." and "on the estimate ...".
+// tiller-score's lines ("pose from ...", "waypoints ...", ..., "steady cross-track ...", "corner
+// overshoot ...", "weaving ...", "VRX station keeping ..."); on estimated state also
+// "estimation error ..." and "on the estimate ...".
 void print_scores(const RunScores& s, std::FILE* out);
 
 }  // namespace tiller::scores

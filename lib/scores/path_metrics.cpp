@@ -3,6 +3,8 @@
 #include <algorithm>
 #include <cmath>
 
+#include "core/angles.hpp"
+
 namespace tiller::scores {
 namespace {
 
@@ -19,7 +21,7 @@ Leg leg(const Goal& a, const Goal& b) {
 }  // namespace
 
 CornerScores corner_scores(const std::vector<Pose>& run, const std::vector<Goal>& path,
-                           double start, double settle_s, double end) {
+                           double start, double settle_s, double end, double end_margin_m) {
   CornerScores c;
   const std::size_t n = path.size();
   c.passage.assign(n, -1);
@@ -47,19 +49,33 @@ CornerScores corner_scores(const std::vector<Pose>& run, const std::vector<Goal>
     c.passage[k] = run[at].t;
     from = at;
   }
-  // Steady cross-track.
-  double sum = 0;
+  // Steady cross-track and weaving.
+  double sum = 0, rate_sum = 0;
+  int rates = 0;
   for (std::size_t k = 0; k + 1 < n; ++k) {
     if (c.passage[k] < 0 || c.passage[k + 1] < 0) continue;
     const Leg l = leg(path[k], path[k + 1]);
+    const Pose* prev = nullptr;  // the previous pose, when it was in the window
     for (const auto& p : run) {
-      if (p.t < c.passage[k] + settle_s || p.t > c.passage[k + 1] || p.t > end) continue;
+      const double s = (p.north - l.n0) * l.tn + (p.east - l.e0) * l.te;
+      if (p.t < c.passage[k] + settle_s || p.t > c.passage[k + 1] || p.t > end ||
+          s > l.len - end_margin_m) {
+        prev = nullptr;
+        continue;
+      }
       const double e = -(p.north - l.n0) * l.te + (p.east - l.e0) * l.tn;
       sum += e * e;
       ++c.steady_samples;
+      if (prev != nullptr && p.t > prev->t) {
+        const double r = angle_diff(p.heading, prev->heading) / (p.t - prev->t);
+        rate_sum += r * r;
+        ++rates;
+      }
+      prev = &p;
     }
   }
   if (c.steady_samples > 0) c.steady_cross_track_rms = std::sqrt(sum / c.steady_samples);
+  if (rates > 0) c.weaving = std::sqrt(rate_sum / rates);
   // Corner overshoot.
   for (std::size_t k = 1; k + 1 < n; ++k) {
     double worst = 0;

@@ -3,13 +3,15 @@
 // messages, real time refused (realtime.refused = 1); and it explains its columns. tiller-plot's
 // data: the heading is unwrapped (a turn through south continues past 180 instead of jumping to
 // -180), and each waypoint reached and the mission's completion are marked where and when the path
-// follower said so.
+// follower said so; a waypoint the follower switched past without the trajectory coming within
+// 1 m of it is drawn as missed, with its closest approach.
 #include <gtest/gtest.h>
 #include <unistd.h>
 
 #include <tiller/heartbeat_t.hpp>
 #include <tiller/odometry_t.hpp>
 #include <tiller/path_progress_t.hpp>
+#include <tiller/path_t.hpp>
 
 #include <cmath>
 #include <filesystem>
@@ -152,6 +154,60 @@ TEST(PlotData, UnwrappedHeadingAndWaypointMarksFromALog) {
   std::getline(reached, line);
   std::getline(reached, line);
   EXPECT_EQ(line, "4,4,0,1");
+  fs::remove_all(dir);
+}
+
+// The path (0,0) -> (4,0) -> (6,5) -> (10,0); the boat goes straight north along east = 0 at
+// 1 m/s, and the follower switches past waypoint 1 at 4 s and waypoint 2 at 6 s. Waypoint 1 is
+// on the track (reached); waypoint 2 is 5 m east of it, the closest approach from the previous
+// switch (4 s) to the completion (10 s) is at (6, 0): missed by 5.000 m. Before the fix the plot
+// drew it as reached (a mark for every switch).
+TEST(PlotData, AWaypointPassedOutsideTheRadiusIsMarkedMissed) {
+  namespace fs = std::filesystem;
+  const fs::path dir = fs::temp_directory_path() / ("tiller-plotmiss-" + std::to_string(getpid()));
+  fs::create_directories(dir);
+  std::vector<Event> log;
+  path_t path{};
+  path.path_id = 7;
+  for (const auto& [n, e] : {std::pair{0.0, 0.0}, {4.0, 0.0}, {6.0, 5.0}, {10.0, 0.0}}) {
+    waypoint_t w{};
+    w.position[0] = n;
+    w.position[1] = e;
+    path.waypoints.push_back(w);
+  }
+  path.n_waypoints = 4;
+  log.push_back(encode(channels::kPath, 0, path));
+  for (int k = 0; k <= 12; ++k) {
+    odometry_t o{};
+    o.position[0] = k;
+    log.push_back(encode(channels::kGroundTruth, k * kUsPerSecond + 2, o));
+    path_progress_t p{};
+    p.path_id = 7;
+    p.n_waypoints = 4;
+    p.segment = k < 4 ? 0 : k < 6 ? 1 : 2;
+    p.complete = k >= 10;
+    log.push_back(encode(channels::kPathProgress, k * kUsPerSecond + 3, p));
+  }
+  const PlotData pd = write_plot_data(log, dir.string());
+  ASSERT_EQ(pd.marks.size(), 3u);
+  EXPECT_FALSE(pd.marks[0].missed);
+  EXPECT_NEAR(pd.marks[0].closest, 0.0, 1e-12);
+  EXPECT_TRUE(pd.marks[1].missed);
+  EXPECT_NEAR(pd.marks[1].closest, 5.0, 1e-12);
+  EXPECT_TRUE(pd.marks[2].complete);
+  std::string line;
+  std::ifstream missed(dir / "missed.csv");
+  std::getline(missed, line);
+  std::getline(missed, line);
+  EXPECT_EQ(line, "6,6,0,2,5");
+  std::ifstream reached(dir / "reached.csv");
+  std::getline(reached, line);
+  std::getline(reached, line);
+  EXPECT_EQ(line, "4,4,0,1");
+  EXPECT_FALSE(std::getline(reached, line));  // waypoint 2 is not among the reached
+  const std::string script = gnuplot_script(pd, dir.string(), "x.png", "t");
+  EXPECT_NE(script.find("waypoint MISSED"), std::string::npos);
+  EXPECT_NE(script.find("'2 missed'"), std::string::npos);
   fs::remove_all(dir);
 }
 

@@ -162,9 +162,45 @@ TEST(CornerScores, HandMadeRun) {
   ASSERT_EQ(c.overshoot.size(), 1u);
   EXPECT_NEAR(c.overshoot[0], 2.0, 1e-12);
   EXPECT_NEAR(c.max_overshoot, 2.0, 1e-12);
-  // Steady: leg 1 from t = 60 to 100 (41 samples at 0.5 m), leg 2 from 160 to 199 (40 at 0.2).
-  EXPECT_EQ(c.steady_samples, 81);
-  EXPECT_NEAR(c.steady_cross_track_rms, std::sqrt((41 * 0.25 + 40 * 0.04) / 81), 1e-12);
+  // Steady: leg 1 from t = 60 to 10 m before its end, north 90 (31 samples at 0.5 m); leg 2
+  // from 160 (east 61) to east 90 at t = 189 (30 at 0.2).
+  EXPECT_EQ(c.steady_samples, 61);
+  EXPECT_NEAR(c.steady_cross_track_rms, std::sqrt((31 * 0.25 + 30 * 0.04) / 61), 1e-12);
+  EXPECT_DOUBLE_EQ(c.weaving, 0);  // a constant heading
+  // Without the end margin (the definition before issue 35): up to each passage.
+  const auto whole = corner_scores(run, path, 0, 60, 1e300, 0);
+  EXPECT_EQ(whole.steady_samples, 81);
+  EXPECT_NEAR(whole.steady_cross_track_rms, std::sqrt((41 * 0.25 + 40 * 0.04) / 81), 1e-12);
+}
+
+// The window leaves out the next turn: a boat that holds 0.1 m off the leg and starts its turn
+// 4 m before the corner (cutting inside, up to 2 m off the first leg's line at the corner, as a
+// wheel-over point does) scores 0.1 m, not the cut. And a heading weaving as 0.1 sin(0.5 t)
+// scores its RMS rate 0.05 / sqrt 2 (sampled at 10 Hz: within 1e-3 of it).
+TEST(CornerScores, TheNextTurnIsNotTheLegsAndWeavingIsTheHeadingRate) {
+  using namespace tiller::scores;
+  std::vector<Goal> path = {{0, 0}, {200, 0}, {200, 200}};
+  std::vector<Pose> run;
+  for (int i = 0; i <= 1960; ++i) {  // 1 m/s north, 0.1 m right of the leg, 10 Hz
+    const double t = i * 0.1;
+    run.push_back({t, t, 0.1, 0.1 * std::sin(0.5 * t)});
+  }
+  for (int i = 1; i <= 40; ++i) {  // the cut: from (196, 0.1) to (200, 2.1)
+    const double t = 196 + i * 0.1;
+    run.push_back({t, 196 + i * 0.1, 0.1 + i * 0.05, 0});
+  }
+  for (int i = 1; i <= 2000; ++i) {  // the second leg, 0.1 m short of its line (north 199.9)
+    const double t = 200 + i * 0.1;
+    run.push_back({t, 199.9, 2.1 + i * 0.1, 0});
+  }
+  const auto c = corner_scores(run, path, 0);
+  EXPECT_NEAR(c.steady_cross_track_rms, 0.1, 1e-12);
+  const auto whole = corner_scores(run, path, 0, 60, 1e300, 0);
+  EXPECT_GT(whole.steady_cross_track_rms, 0.14);  // the cut counted
+  // Weaving: leg 1 (the sine, t 60-190) and leg 2 (0); RMS over both windows' rate samples.
+  const int n1 = 1300, n2 = static_cast<int>(c.steady_samples) - 1301 - 1;
+  const double r1 = 0.05 / std::sqrt(2.0);
+  EXPECT_NEAR(c.weaving, r1 * std::sqrt(double(n1) / (n1 + n2)), 1e-3);
 }
 
 // The same run followed by station keeping at the goal: 20 s 1 m off the second leg's line,
@@ -181,10 +217,11 @@ TEST(CornerScores, StationKeepingAfterTheEndDoesNotCount) {
   for (int e = 3; e <= 100; ++e) run.push_back({t++, 100.2, double(e), 0});
   for (int k = 0; k < 20; ++k) run.push_back({t++, 101, 100, 0});
   run.push_back({t++, 100, 100, 0});
-  const auto all = corner_scores(run, path, 0, 60);
+  // (end_margin_m 0: the margin would also leave the hold out, as it is beyond east 90.)
+  const auto all = corner_scores(run, path, 0, 60, 1e300, 0);
   EXPECT_DOUBLE_EQ(all.passage[2], 220);
   EXPECT_EQ(all.steady_samples, 102);
-  const auto c = corner_scores(run, path, 0, 60, 199);
+  const auto c = corner_scores(run, path, 0, 60, 199, 0);
   EXPECT_DOUBLE_EQ(c.passage[2], 199);
   EXPECT_EQ(c.steady_samples, 81);
   EXPECT_NEAR(c.steady_cross_track_rms, std::sqrt((41 * 0.25 + 40 * 0.04) / 81), 1e-12);

@@ -1,0 +1,92 @@
+// Corners along an arc (guidance/turn_arc.hpp, PathFollower with turn_arc): the fillet's
+// geometry and the follower's commands on it, against hand-computed values.
+#include <gtest/gtest.h>
+
+#include <cmath>
+
+#include "core/angles.hpp"
+#include "guidance/path_follower.hpp"
+#include "guidance/turn_arc.hpp"
+
+namespace tiller::guidance {
+namespace {
+
+// A right turn (north, then east) at (100, 0) with R = 2: L = R tan 45 deg = 2, the arc from
+// (98, 0) to (100, 2) about (98, 2), passing R (sqrt 2 - 1) = 0.828 m inside the corner.
+TEST(TurnArc, FilletOfARightAngle) {
+  const TurnArc a = make_turn_arc({100, 0}, {1, 0}, {0, 1}, 2.0);
+  ASSERT_TRUE(a.valid);
+  EXPECT_DOUBLE_EQ(a.sign, 1.0);
+  EXPECT_NEAR(a.lead, 2.0, 1e-12);
+  EXPECT_NEAR((a.start - Vec2(98, 0)).norm(), 0, 1e-12);
+  EXPECT_NEAR((a.end - Vec2(100, 2)).norm(), 0, 1e-12);
+  EXPECT_NEAR((a.centre - Vec2(98, 2)).norm(), 0, 1e-12);
+  EXPECT_NEAR((Vec2(100, 0) - a.centre).norm() - a.radius, 2 * (std::sqrt(2.0) - 1), 1e-12);
+  const ArcPosition s = locate(a, {98, 0});
+  EXPECT_NEAR(s.outside, 0, 1e-12);
+  EXPECT_NEAR((s.tangent - Vec2(1, 0)).norm(), 0, 1e-12);
+  EXPECT_NEAR((s.inward - Vec2(0, 1)).norm(), 0, 1e-12);
+  EXPECT_FALSE(s.past_end);
+  const double h = std::sqrt(0.5);
+  const ArcPosition m = locate(a, Vec2(98, 2) + 2.5 * Vec2(h, -h));  // 0.5 m outside, halfway
+  EXPECT_NEAR(m.outside, 0.5, 1e-12);
+  EXPECT_NEAR((m.tangent - Vec2(h, h)).norm(), 0, 1e-12);
+  EXPECT_TRUE(locate(a, {100.1, 2.5}).past_end);
+  // A left turn (north, then west) mirrors it; straight on and hairpins have no arc.
+  const TurnArc l = make_turn_arc({100, 0}, {1, 0}, {0, -1}, 2.0);
+  EXPECT_DOUBLE_EQ(l.sign, -1.0);
+  EXPECT_NEAR((l.centre - Vec2(98, -2)).norm(), 0, 1e-12);
+  EXPECT_NEAR((locate(l, {98, 0}).tangent - Vec2(1, 0)).norm(), 0, 1e-12);
+  EXPECT_FALSE(make_turn_arc({100, 0}, {1, 0}, {1, 0}, 2.0).valid);
+  EXPECT_FALSE(make_turn_arc({100, 0}, {1, 0}, {-1, 0.1}, 2.0).valid);
+}
+
+// The follower on (0,0) -> (100,0) -> (100,100), seed law, turn_rate 0.25 rad/s, the arc at most
+// 0.5 m inside. The turn's speed 1.5 (1 - 0.8 / 2) = 0.9 m/s gives R = 3.6 m, 1.49 m inside: too
+// far, so R = 0.5 / (sqrt 2 - 1) = 1.2071 m and U = R * 0.25 = 0.3018 m/s; the segment is left
+// 1.2071 m before the corner; on the arc the heading leads the course by 0.25 rad/s * 1 s.
+TEST(TurnArc, FollowerFliesTheCornerAlongItsArcWithAHeadingLead) {
+  FollowerParams p;
+  p.turn_rate = 0.25;
+  p.turn_arc = true;
+  p.turn_arc_inside_max = 0.5;
+  p.heading_lead_s = 1.0;
+  p.end_slowdown = EndSlowdown::kConstantDecel;
+  PathFollower f(p);
+  std::vector<Waypoint> w(3);
+  w[1].position = {100, 0};
+  w[2].position = {100, 100};
+  ASSERT_TRUE(f.set_path(w, {0, 0}, 0, false));
+  const double r = 0.5 / (std::sqrt(2.0) - 1), u = r * 0.25;
+  // 1.5 m before the corner: still on the first leg, already at the arc's speed.
+  auto o = f.update({98.5, 0}, 0, 0.1);
+  EXPECT_EQ(o.segment, 0);
+  EXPECT_FALSE(o.on_arc);
+  EXPECT_NEAR(o.wheel_over, r, 1e-9);
+  EXPECT_NEAR(o.velocity.x(), u, 1e-9);
+  EXPECT_NEAR(o.velocity.y(), 0, 1e-12);
+  // Just past the wheel-over point (98.7929): on the arc, the next segment selected.
+  o = f.update({98.8, 0}, 0, 0.1);
+  EXPECT_EQ(o.segment, 1);
+  ASSERT_TRUE(o.on_arc);
+  const double course = std::atan2(o.velocity.y(), o.velocity.x());
+  EXPECT_NEAR(angle_diff(o.target_heading, course), 0.25, 1e-9);
+  EXPECT_NEAR(o.along_speed, u, 1e-9);
+  EXPECT_LT(std::abs(course), 0.02);  // along the arc's start: north
+  // Halfway round, on the arc, heading along it: the velocity along the tangent (45 deg).
+  const double h = std::sqrt(0.5);
+  const Vec2 centre(100 - r, r);
+  o = f.update(centre + r * Vec2(h, -h), kPi / 4, 0.1);
+  ASSERT_TRUE(o.on_arc);
+  EXPECT_NEAR(o.velocity.x(), u * h, 1e-9);
+  EXPECT_NEAR(o.velocity.y(), u * h, 1e-9);
+  EXPECT_NEAR(o.target_heading, kPi / 4 + 0.25, 1e-9);
+  // Past the arc's end: the second leg as usual (no lead).
+  o = f.update({100, r + 0.5}, kPi / 2, 0.1);
+  EXPECT_FALSE(o.on_arc);
+  EXPECT_EQ(o.segment, 1);
+  EXPECT_NEAR(angle_diff(o.target_heading, std::atan2(o.velocity.y(), o.velocity.x())), 0, 1e-12);
+}
+
+}  // namespace
+}  // namespace tiller::guidance
