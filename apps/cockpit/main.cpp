@@ -1,5 +1,7 @@
 // tiller-cockpit: the browser cockpit. Serves the page over HTTP and bridges LCM to it over a
 // WebSocket (lib/cockpit: docs/reference/cockpit-api.md); commands from the page need the token.
+#include <unistd.h>
+
 #include <cstdio>
 
 #include "cockpit/cockpit_config.hpp"
@@ -23,6 +25,10 @@ int main(int argc, char** argv) {
     if (!args.get("listen").empty()) cfg.server.listen = args.get("listen");
     if (!args.get("processes").empty())
       cfg.node.processes = cockpit::split_list(args.get("processes"));
+    if (cfg.node.station.empty()) {
+      char host[256] = {};
+      cfg.node.station = std::string("cockpit@") + (gethostname(host, sizeof host - 1) == 0 ? host : "");
+    }
     const std::string token = cfg.server.token.empty()
                                   ? cockpit::load_or_create_token(cfg.server.token_file)
                                   : cfg.server.token;

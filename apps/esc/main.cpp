@@ -3,6 +3,7 @@
 // SIGINT/SIGTERM: neutral to every ESC, then exit.
 #include <cstdio>
 
+#include "auth/key.hpp"
 #include "esc/esc_node.hpp"
 #include "runtime/app.hpp"
 #include "runtime/live.hpp"
@@ -18,6 +19,8 @@ int main(int argc, char** argv) {
          "config/esc/seed000_sim.yaml",
          {}});
     EscNode node(args.config);
+    // A new nonce per start: an arm request captured before this start names another one.
+    node.set_boot_nonce(auth::random_nonce());
     const auto& b = node.backend();
     std::fprintf(stderr, "tiller-esc: %s on %s, %zu ESCs, %.0f Hz, command timeout %lld ms\n",
                  b.label().c_str(), b.bus().c_str(), b.size(), node.params().rate_hz,

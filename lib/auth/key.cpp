@@ -39,6 +39,16 @@ std::uint32_t key_id(const std::array<std::uint8_t, kKeyBytes>& bytes) {
          std::uint32_t{h[3]};
 }
 
+std::int64_t random_nonce() {
+  if (sodium_init() < 0) throw std::runtime_error("libsodium failed to initialise");
+  std::uint64_t v = 0;
+  while (v == 0) {
+    randombytes_buf(&v, sizeof v);
+    v >>= 1;  // [0, 2^63): positive as an int64
+  }
+  return static_cast<std::int64_t>(v);
+}
+
 Key generate_key() {
   init_sodium();
   Key k;

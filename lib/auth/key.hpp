@@ -28,6 +28,10 @@ std::uint32_t key_id(const std::array<std::uint8_t, kKeyBytes>& bytes);
 // A new key from libsodium's randombytes_buf (the system's CSPRNG).
 Key generate_key();
 
+// A random boot nonce in [1, 2^63): drawn once per start of a process (tiller-esc's
+// arm_state_t.boot_nonce), so a command captured before a restart names another boot.
+std::int64_t random_nonce();
+
 // Parses a key file's text; throws std::runtime_error "key file 'PATH': ..." when it is not one.
 Key parse_key(const std::string& text, const std::string& path);
 

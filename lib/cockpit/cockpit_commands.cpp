@@ -94,6 +94,10 @@ void CockpitNode::on_arm(int client, const void* jp, TimeUs now) {
   a.utime = now;
   a.arm = arm->get<bool>();
   a.source = "cockpit";
+  a.station = p_.station;
+  a.boot_nonce = boot_nonce_;
+  const json* takeover = member(j, "takeover");
+  a.takeover = a.arm && takeover && takeover->is_boolean() && takeover->get<bool>();
   publish(channels::kArmRequest, a);
   ++*accepted_;
   reply(client, cmd, true, a.arm ? "arm request sent" : "disarm request sent");
@@ -207,6 +211,7 @@ void CockpitNode::on_mission(int client, const void* jp, TimeUs now) {
     a.utime = now;
     a.arm = false;
     a.source = "cockpit (release)";
+    a.station = p_.station;
     publish(channels::kArmRequest, a);
   }
   ++*accepted_;

@@ -25,6 +25,8 @@ CockpitConfig load_cockpit(const config::Value& root) {
     if (!v->is_sequence()) v->fail("a list of process names, e.g. [sim, esc, mixer]");
     for (const auto& item : v->items()) p.processes.push_back(item.as_string());
   }
+  p.station = root.string_or("station", "");
+  if (p.station.size() > 64) root.at("station").fail("a station id of at most 64 characters");
   p.silent_after = from_seconds(root.number_or("silent_after_s", 3.0, {0.5, 60.0}));
   p.path_repeat = from_seconds(root.number_or("path_repeat_s", 1.0, {0.1, 60.0}));
   if (auto g = root.find("gamepad")) {

@@ -39,6 +39,9 @@ struct GamepadAxis {
 
 struct CockpitParams {
   TimeUs period = from_hz(20);
+  // This operator station's id on arm requests and the page's manual demand (docs/safety.md:
+  // one station in control). Empty in the file: tiller-cockpit uses "cockpit@<host name>".
+  std::string station;
   std::vector<std::string> processes;  // node names whose heartbeats the page shows
   TimeUs silent_after = 3'000'000;
   TimeUs path_repeat = 1'000'000;

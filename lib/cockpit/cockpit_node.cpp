@@ -86,6 +86,7 @@ void CockpitNode::on_state(const Msg& m, TimeUs now) {
   s.rx = now;
   s.dirty = true;
   if constexpr (std::is_same_v<Msg, odometry_t>) gate_.on_odometry(m, now);
+  if constexpr (std::is_same_v<Msg, arm_state_t>) boot_nonce_ = m.boot_nonce;  // arms carry it
 }
 
 CockpitNode::CockpitNode(CockpitParams p, std::string token, MissionLoader loader)

@@ -131,6 +131,7 @@ class CockpitNode : public Node {
   bool centred_ = false;
   std::array<double, 6> demand_{};
   manual_demand_t demand_msg_{};
+  std::int64_t boot_nonce_ = 0;  // the latest TILLER_ARM_STATE's: arm requests carry it
   // thruster test
   ThrusterTestRelay test_;
   // mission

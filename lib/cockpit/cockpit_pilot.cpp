@@ -20,6 +20,7 @@ void CockpitNode::publish_demand(TimeUs now, bool valid) {
   for (int i = 0; i < 6; ++i)
     demand_msg_.demand[i] = valid ? demand_[static_cast<std::size_t>(i)] : 0.0;
   demand_msg_.valid = valid;
+  if (demand_msg_.station != p_.station) demand_msg_.station = p_.station;
   publish(channels::kManualDemand, demand_msg_);
 }
 

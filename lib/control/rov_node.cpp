@@ -49,6 +49,8 @@ RovControlNode::RovControlNode(const RovControlParams& p, const Vehicle& vehicle
   for (std::size_t a = 0; a < 6; ++a) actuated_[a] = !alloc_->unactuated()[a];
   subscribe(channels::kMode, &RovControlNode::on_mode);
   subscribe(channels::kManualDemand, &RovControlNode::on_manual);
+  subscribe(channels::kArmState, &RovControlNode::on_arm_state);
+  rejected_station_ = &counter("rejected.manual_demand.station");
   subscribe(channels::kOdometry, &RovControlNode::on_odometry);
   subscribe(channels::kAllocationStatus, &RovControlNode::on_allocation);
   subscribe(channels::kThrusterCommand, &RovControlNode::on_thruster_command);
@@ -140,8 +142,18 @@ void RovControlNode::switch_to(std::int8_t mode, const ModePlan& plan, TimeUs no
   set_reason(buf);
 }
 
+void RovControlNode::on_arm_state(const arm_state_t& m, TimeUs now) {
+  // Only the station in control matters here; freshness and arming are the mixer's and the ESC's.
+  if (!on_time(m.utime, now, kEventMaxAgeUs, "arm_state")) return;
+  stations_.on_arm_state(m);
+}
+
 void RovControlNode::on_manual(const manual_demand_t& m, TimeUs now) {
   if (!on_time(manual_fresh_, m.utime, now, "manual_demand")) return;
+  if (!stations_.allows(m.station)) {  // another station's stick: not ours to follow
+    reject(*rejected_station_);
+    return;
+  }
   if (checks::check(m) != nullptr) {
     manual_fresh_.reset();
     reject(*bad_manual_);

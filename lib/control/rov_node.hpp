@@ -38,6 +38,7 @@
 #include <string>
 
 #include <tiller/allocation_status_t.hpp>
+#include <tiller/arm_state_t.hpp>
 #include <tiller/arbitration_t.hpp>
 #include <tiller/controller_mode_t.hpp>
 #include <tiller/manual_demand_t.hpp>
@@ -50,6 +51,7 @@
 #include "control/rov_config.hpp"
 #include "control/rov_modes.hpp"
 #include "runtime/node.hpp"
+#include "safety/station_gate.hpp"
 #include "vehicle/vehicle.hpp"
 
 namespace tiller::control {
@@ -61,6 +63,7 @@ class RovControlNode : public Node {
 
   void on_mode(const controller_mode_t& m, TimeUs now);
   void on_manual(const manual_demand_t& m, TimeUs now);
+  void on_arm_state(const arm_state_t& m, TimeUs now);
   void on_odometry(const odometry_t& m, TimeUs now);
   void on_allocation(const allocation_status_t& m, TimeUs now);
   void on_thruster_command(const thruster_command_t& m, TimeUs now);
@@ -108,6 +111,8 @@ class RovControlNode : public Node {
   arbitration_t arb_{};
   std::string reason_, refusal_, status_;
   std::int64_t stale_seen_ = 0;
+  safety::StationGate stations_;  // whose manual commands count (TILLER_ARM_STATE)
+  std::int64_t* rejected_station_ = nullptr;
   std::int64_t *nan_odometry_, *range_odometry_, *invalid_odometry_, *bad_manual_, *bad_mode_,
       *unavailable_, *bad_allocation_, *bad_command_, *switches_;
 };

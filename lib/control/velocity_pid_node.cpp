@@ -47,6 +47,8 @@ VelocityPidNode::VelocityPidNode(const VelocityPidNodeParams& p)
   subscribe(channels::kOdometry, &VelocityPidNode::on_odometry);
   subscribe(channels::kVelocitySetpoint, &VelocityPidNode::on_setpoint);
   subscribe(channels::kManualVelocity, &VelocityPidNode::on_manual);
+  subscribe(channels::kArmState, &VelocityPidNode::on_arm_state);
+  rejected_station_ = &counter("rejected.manual_velocity.station");
   subscribe(channels::kMode, &VelocityPidNode::on_mode);
   subscribe(channels::kPathProgress, &VelocityPidNode::on_progress);
   subscribe(channels::kAllocationStatus, &VelocityPidNode::on_allocation);
@@ -108,8 +110,18 @@ void VelocityPidNode::on_setpoint(const velocity_setpoint_t& m, TimeUs now) {
   setpoint_fresh_.mark(now, m.utime, clock_offset());
 }
 
+void VelocityPidNode::on_arm_state(const arm_state_t& m, TimeUs now) {
+  // Only the station in control matters here; freshness and arming are the mixer's and the ESC's.
+  if (!on_time(m.utime, now, kEventMaxAgeUs, "arm_state")) return;
+  stations_.on_arm_state(m);
+}
+
 void VelocityPidNode::on_manual(const manual_velocity_cmd_t& m, TimeUs now) {
   if (!on_time(manual_fresh_, m.utime, now, "manual_velocity")) return;
+  if (!stations_.allows(m.station)) {  // another station's stick: not ours to follow
+    reject(*rejected_station_);
+    return;
+  }
   // Its contract: velocity within 10 m/s, a known yaw mode, yaw rate within 5 rad/s, heading in
   // (-pi, pi], yaw torque within 1e4 N m.
   if (checks::check(m) != nullptr) {

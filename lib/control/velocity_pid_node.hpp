@@ -30,6 +30,7 @@
 #pragma once
 
 #include <tiller/allocation_status_t.hpp>
+#include <tiller/arm_state_t.hpp>
 #include <tiller/arbitration_t.hpp>
 #include <tiller/controller_mode_t.hpp>
 #include <tiller/manual_velocity_cmd_t.hpp>
@@ -46,6 +47,7 @@
 #include "control/estimate_watch.hpp"
 #include "control/velocity_pid.hpp"
 #include "runtime/node.hpp"
+#include "safety/station_gate.hpp"
 
 namespace tiller::control {
 
@@ -56,6 +58,7 @@ class VelocityPidNode : public Node {
   void on_odometry(const odometry_t& m, TimeUs now);
   void on_setpoint(const velocity_setpoint_t& m, TimeUs now);
   void on_manual(const manual_velocity_cmd_t& m, TimeUs now);
+  void on_arm_state(const arm_state_t& m, TimeUs now);
   void on_mode(const controller_mode_t& m, TimeUs now);
   void on_progress(const path_progress_t& m, TimeUs now);
   void on_allocation(const allocation_status_t& m, TimeUs now);
@@ -100,6 +103,8 @@ class VelocityPidNode : public Node {
   bool was_active_ = false;
   std::int8_t prev_source_ = -1;  // the arbiter's source at the previous tick
   std::int8_t prev_mode_ = -1;    // the arbiter's mode at the previous tick
+  safety::StationGate stations_;  // whose manual commands count (TILLER_ARM_STATE)
+  std::int64_t* rejected_station_ = nullptr;
   std::int64_t *nan_odometry_, *bad_setpoint_, *bad_manual_, *bad_progress_, *bad_mode_,
       *bad_station_wrench_;
   bool odom_invalid_ = false;     // the last odometry lacked velocity or attitude

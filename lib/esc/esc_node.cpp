@@ -62,11 +62,15 @@ EscNode::EscNode(esc::EscNodeParams p, std::unique_ptr<esc::EscBackend> backend)
   c_missing_ = &counter("rejected.command.missing_thruster");
   c_unknown_ = &counter("rejected.command.unknown_thruster");
   c_arm_refused_ = &counter("arm.refused_not_neutral");
+  c_nonce_ = &counter("rejected.arm_request.boot_nonce");
+  c_station_ = &counter("rejected.arm_request.station");
+  c_takeovers_ = &counter("arm.takeovers");
   c_bus_errors_ = &counter("bus.errors");
   for (std::size_t i = 0; i < n_; ++i) hw_[i] = backend_->to_hardware(i, 0.0);
   init_messages();
   arm_.armed = false;
   arm_.session = 0;
+  arm_.boot_nonce = 0;
   arm_.reason = "disarmed at start";
   set_health(heartbeat_t::STATE_OK, "starting: disarmed, neutral");
 }
@@ -213,13 +217,22 @@ bool EscNode::commands_neutral(TimeUs now, std::size_t* worst) {
 }
 
 void EscNode::on_arm_request(const arm_request_t& m, TimeUs now) {
-  const std::string who = m.source.empty() ? std::string("unknown") : m.source;
-  if (!m.arm) {
+  const std::string who = (m.source.empty() ? std::string("unknown") : m.source) +
+                          (m.station.empty() ? std::string() : " at station " + m.station);
+  if (!m.arm) {  // any station may stop the vehicle
     set_armed(false, "disarmed by " + who, now);
     return;
   }
-  if (armed_) {
+  if (m.boot_nonce != arm_.boot_nonce) {
+    reject(*c_nonce_);
+    arm_.reason = "arm refused (asked by " + who +
+                  "): the request is for another start of tiller-esc (boot nonce differs: "
+                  "replayed, or sent before a restart)";
     publish_arm_state(now);
+    return;
+  }
+  if (armed_ && m.station == arm_.controller) {
+    publish_arm_state(now);  // already armed for this station
     return;
   }
   // An arm request is an event: one that waited (in the queue of a stopped process, say) is
@@ -230,6 +243,22 @@ void EscNode::on_arm_request(const arm_request_t& m, TimeUs now) {
     arm_.reason = "arm refused (asked by " + who + "): the request is stamped " + buf +
                   " from this clock (stale or a clock out of step)";
     publish_arm_state(now);
+    return;
+  }
+  if (armed_ && !m.takeover) {
+    reject(*c_station_);
+    arm_.reason = "arm refused (asked by " + who + "): another station in control: " +
+                  (arm_.controller.empty() ? std::string("(none named)") : arm_.controller);
+    publish_arm_state(now);
+    return;
+  }
+  if (armed_) {  // a takeover: a new session, so the mixer waits for the new station's stick
+    ++*c_takeovers_;
+    const std::string from = arm_.controller.empty() ? "(none named)" : arm_.controller;
+    ++session_;
+    arm_.controller = m.station;
+    set_armed(true, "control taken by " + (m.station.empty() ? who : m.station) + " from " + from,
+              now);
     return;
   }
   std::size_t worst = 0;
@@ -250,12 +279,14 @@ void EscNode::on_arm_request(const arm_request_t& m, TimeUs now) {
     return;
   }
   ++session_;
+  arm_.controller = m.station;
   set_armed(true, "armed by " + who, now);
 }
 
 void EscNode::set_armed(bool armed, const std::string& reason, TimeUs now) {
   armed_ = armed;
   if (!armed) std::fill(motor_.begin(), motor_.end(), 0.0);
+  if (!armed && !arm_.controller.empty()) arm_.controller.clear();
   if (arm_.reason != reason) arm_.reason = reason;
   publish_arm_state(now);
 }

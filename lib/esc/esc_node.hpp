@@ -16,6 +16,14 @@
 // the refusal on TILLER_ARM_STATE gives the mixer's `hold` reason); a disarm request always
 // disarms. With disarm_on_timeout the command timeout also disarms. Each granted arming gets a
 // new session number (arm_state_t.session).
+// Replay and stations (docs/safety.md, "Command authority"): an arm request must carry this
+// process's boot nonce (set_boot_nonce; tiller-esc draws a random one at start and announces it
+// in arm_state_t.boot_nonce), so one captured before a restart is refused
+// (rejected.arm_request.boot_nonce) whatever the clocks say. The request's station is in control
+// while armed (arm_state_t.controller); another station's arm is refused with the holder's name
+// (rejected.arm_request.station) unless it is a takeover, which hands control over as a new
+// session (arm.takeovers; the mixer then waits for the new station's centred stick). Any station
+// may disarm.
 // A changed command while armed is also written at once (write_on_command, default on; at most
 // one extra write per min_write_interval, a command held back going out at the next tick, which
 // then comes every min_write_interval), so the stick -> ESC latency does not wait a cycle.
@@ -58,7 +66,11 @@ class EscNode : public Node {
   // Writes neutral to every ESC and disarms (SIGINT/SIGTERM).
   void shutdown(TimeUs now) override;
 
+  // The nonce arm requests must carry (default 0, what tests and lockstep runs use).
+  void set_boot_nonce(std::int64_t nonce) { arm_.boot_nonce = nonce; }
+  std::int64_t boot_nonce() const { return arm_.boot_nonce; }
   bool armed() const { return armed_; }
+  const std::string& controller() const { return arm_.controller; }
   bool command_fresh() const { return command_fresh_; }
   const esc::EscBackend& backend() const { return *backend_; }
   const esc_output_t& last_output() const { return out_; }
@@ -126,6 +138,9 @@ class EscNode : public Node {
   std::int64_t* c_unknown_;
   std::int64_t* c_source_ = nullptr;  // made on first use
   std::int64_t* c_arm_refused_;
+  std::int64_t* c_nonce_;
+  std::int64_t* c_station_;
+  std::int64_t* c_takeovers_;
   std::int64_t* c_bus_errors_;
 };
 

@@ -46,6 +46,9 @@ void MissionNode::on_arm_state(const arm_state_t& m, TimeUs now) {
     reject(counter("rejected.arm_state.invalid"));  // made on first use
     return;
   }
+  boot_nonce_ = m.boot_nonce;
+  have_arm_state_ = true;
+  if (path_sent_) maybe_arm(now);
   if (!m.armed || start_sent_ || (arm_ && !arm_sent_)) return;
   mission_command_t c{};
   c.utime = now;
@@ -166,15 +169,21 @@ void MissionNode::publish_path(TimeUs now) {
   mode.is_translation = translation_;
   mode.source = "mission";
   publish(channels::kMode, mode);
-  if (arm_ && !arm_sent_) {
-    arm_request_t a{};
-    a.utime = now;
-    a.arm = true;
-    a.source = "mission";
-    publish(channels::kArmRequest, a);
-    arm_sent_ = true;
-  }
+  path_sent_ = true;
+  maybe_arm(now);
   ++sent_;
+}
+
+void MissionNode::maybe_arm(TimeUs now) {
+  // The arm request carries tiller-esc's boot nonce, so it waits for an arm state.
+  if (!arm_ || arm_sent_ || !have_arm_state_) return;
+  arm_request_t a{};
+  a.utime = now;
+  a.arm = true;
+  a.source = "mission";
+  a.boot_nonce = boot_nonce_;
+  publish(channels::kArmRequest, a);
+  arm_sent_ = true;
 }
 
 }  // namespace tiller::mission

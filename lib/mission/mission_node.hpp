@@ -2,8 +2,9 @@
 // with the mission's is_translation) at its first tick and again every repeat period (state: a
 // repeat of the same path_id does not restart the follower; it covers lost packets and late
 // starters). The operator's intent is sent as events, once each (docs/safety.md):
-//   * one arm request on TILLER_ARM_REQUEST at the first tick (unless arm = false), never
-//     repeated, so a vehicle disarmed by a timeout or a restart stays disarmed;
+//   * one arm request on TILLER_ARM_REQUEST once the path is out and a TILLER_ARM_STATE has
+//     given tiller-esc's boot nonce (unless arm = false), never repeated, so a vehicle disarmed
+//     by a timeout or a restart stays disarmed;
 //   * one START on TILLER_MISSION_COMMAND (command_id = path_id) when TILLER_ARM_STATE first says
 //     armed: the mixer's safety gate lets the autonomy move the vehicle only after it.
 // With a start gate (mission/start_gate.hpp, `gate.enabled`) it subscribes to TILLER_ODOMETRY and
@@ -58,6 +59,7 @@ class MissionNode : public Node {
   void on_progress(const path_progress_t& m, TimeUs now);
   void act(Sequencer::Action a, TimeUs now);
   void publish_path(TimeUs now);
+  void maybe_arm(TimeUs now);  // the --arm request, once the path is out and an arm state seen
   void send_command(std::int8_t command, TimeUs now);
 
   static constexpr TimeUs kGatePollUs = 100'000;  // gated: the tick that watches the gate
@@ -68,6 +70,9 @@ class MissionNode : public Node {
   bool translation_;
   bool arm_;
   bool arm_sent_ = false;
+  bool path_sent_ = false;
+  bool have_arm_state_ = false;     // a TILLER_ARM_STATE seen: its boot nonce is known
+  std::int64_t boot_nonce_ = 0;     // the arm request carries it
   bool start_sent_ = false;
   int sent_ = 0;
   std::string name_;

@@ -128,6 +128,7 @@ MixerNode::MixerNode(const MixerParams& params, const Vehicle& vehicle)
   advertise<allocation_status_t>(channels::kAllocationStatus);
   advertise<arm_request_t>(channels::kArmRequest);  // disarm requests only
   rej_manual_ = &counter("rejected.manual_demand.range");
+  rej_station_ = &counter("rejected.manual_demand.station");
   rej_wrench_ = &counter("rejected.wrench.range");
   rej_arb_ = &counter("rejected.arbitration.source");
   rej_mission_ = &counter("rejected.mission_command.invalid");
@@ -176,6 +177,10 @@ std::int8_t MixerNode::source_now(TimeUs now) {
 // active source's rate (plus the fixed rate), whatever the other feeds do.
 void MixerNode::on_manual(const manual_demand_t& m, TimeUs now) {
   if (!on_time(manual_fresh_, m.utime, now, "manual_demand")) return;
+  if (!stations_.allows(m.station)) {  // another station's stick: not ours to follow
+    reject(*rej_station_);
+    return;
+  }
   if (!all_in_range(m.demand, -1.0, 1.0)) {
     manual_fresh_.reset();
     reject(*rej_manual_);
@@ -250,6 +255,7 @@ void MixerNode::on_arm_state(const arm_state_t& m, TimeUs now) {
   const bool before = armed_ && arm_fresh_.fresh(now);
   armed_ = m.armed;
   session_ = m.session;
+  stations_.on_arm_state(m);
   arm_fresh_.mark(now, m.utime, clock_offset());
   if (p_.publish_every_input || (armed_ && arm_fresh_.fresh(now)) != before) output(now);
 }

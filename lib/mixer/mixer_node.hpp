@@ -50,6 +50,7 @@
 #include "core/time.hpp"
 #include "runtime/node.hpp"
 #include "safety/intent_gate.hpp"
+#include "safety/station_gate.hpp"
 #include "vehicle/vehicle.hpp"
 
 namespace tiller {
@@ -149,6 +150,8 @@ class MixerNode : public Node {
   thruster_command_t cmd_{};
   allocation_status_t status_{};
   std::int64_t* rej_manual_;
+  std::int64_t* rej_station_;  // a manual demand from a station not in control
+  safety::StationGate stations_;
   std::int64_t* rej_wrench_;
   std::int64_t* rej_arb_;
   std::int64_t* rej_mission_;

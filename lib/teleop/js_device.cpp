@@ -37,7 +37,12 @@ int JsEventParser::feed(const std::uint8_t* data, std::size_t n, joystick_state_
 }
 
 void JsEventParser::apply(const JsEvent& e, joystick_state_t& s) {
-  if (e.type & kJsEventInit) ++init_events_;
+  if (e.type & kJsEventInit) {
+    ++init_events_;
+    if (ordinary_seen_ && ++late_init_events_ <= INT32_MAX) ++s.late_inits;
+  } else {
+    ordinary_seen_ = true;
+  }
   const std::uint8_t type = e.type & static_cast<std::uint8_t>(~kJsEventInit);
   if (type == kJsEventAxis && e.number < kJsMaxAxes) {
     if (s.n_axes <= e.number) {
@@ -63,6 +68,7 @@ JsDevice::JsDevice(std::string path, std::string name)
   state_.connected = false;
   state_.n_axes = 0;
   state_.n_buttons = 0;
+  state_.late_inits = 0;
   description_ = state_.device;
 }
 
@@ -179,6 +185,7 @@ JsDevice::Status JsDevice::read() {
     if (fstat(fd_, &st) < 0 || st.st_nlink == 0) return disconnect(open_path_ + ": file removed");
   }
   bool any = false;
+  const std::int32_t late_before = state_.late_inits;
   std::uint8_t buf[64 * sizeof(JsEvent)];
   for (;;) {
     const ssize_t r = ::read(fd_, buf, sizeof buf);
@@ -204,7 +211,7 @@ JsDevice::Status JsDevice::read() {
     state_.connected = true;
     return Status::connected;
   }
-  return Status::changed;
+  return state_.late_inits != late_before ? Status::reinit : Status::changed;
 }
 
 }  // namespace tiller

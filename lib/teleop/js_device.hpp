@@ -16,6 +16,10 @@
 // the INIT events (the stick's position at plug-in) are in the first state the node sees. The
 // state's axes and buttons are those reported so far (n_axes = highest axis number seen + 1):
 // a start-up state split over several reads leaves the later axes absent, never 0.
+// The kernel sends INIT events only on open, before any ordinary event. An INIT event after an
+// ordinary one (a driver re-sending its state, a device or writer out of order) is a late INIT:
+// counted in the state's late_inits, and read() returns Status::reinit, so teleop goes neutral,
+// asks to disarm, and waits for a centred stick (never a jump to the re-sent position).
 #pragma once
 
 #include <cstddef>
@@ -46,8 +50,12 @@ class JsEventParser {
  public:
   // Returns the number of events applied to `state` (axes/buttons grow to the highest number seen).
   int feed(const std::uint8_t* data, std::size_t n, joystick_state_t& state);
-  void reset() { pending_ = 0; }
+  void reset() {
+    pending_ = 0;
+    ordinary_seen_ = false;
+  }
   std::int64_t init_events() const { return init_events_; }
+  std::int64_t late_init_events() const { return late_init_events_; }
   std::int64_t bad_events() const { return bad_events_; }  // unknown type or number out of range
 
  private:
@@ -55,12 +63,14 @@ class JsEventParser {
   std::uint8_t buf_[sizeof(JsEvent)] = {};
   std::size_t pending_ = 0;
   std::int64_t init_events_ = 0;
+  std::int64_t late_init_events_ = 0;  // INIT after an ordinary event since reset()
   std::int64_t bad_events_ = 0;
+  bool ordinary_seen_ = false;
 };
 
 class JsDevice {
  public:
-  enum class Status { unchanged, connected, changed, disconnected };
+  enum class Status { unchanged, connected, changed, disconnected, reinit };
 
   // `path`: a device, FIFO or file; empty: search /dev/input/js0..31 for `name` (substring).
   JsDevice(std::string path, std::string name);

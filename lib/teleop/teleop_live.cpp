@@ -36,6 +36,7 @@ void JoystickPump::on_timer(TimeUs now) {
   std::uint64_t expirations = 0;
   while (::read(timer_fd_, &expirations, sizeof expirations) > 0) {
   }
+  report_vehicle();
   if (!dev_.is_open()) {
     if (!dev_.try_open()) {
       if (dev_.last_error() != last_error_) {
@@ -49,6 +50,18 @@ void JoystickPump::on_timer(TimeUs now) {
     ex_.add_fd(watched_fd_, [this](TimeUs t) { on_readable(t); });
   }
   handle(dev_.read(), now);  // a file's removal shows up here even without an inotify event
+}
+
+void JoystickPump::report_vehicle() {
+  // The vehicle's word on arming (a refusal, a takeover), one line per change, for the pilot.
+  const std::string& r = node_.vehicle_reason();
+  if (r == reported_reason_ && node_.controller() == reported_controller_) return;
+  reported_reason_ = r;
+  reported_controller_ = node_.controller();
+  std::fprintf(stderr, "tiller-teleop: vehicle %s%s%s: %s\n",
+               node_.armed() ? "ARMED" : "disarmed",
+               reported_controller_.empty() ? "" : ", in control: ",
+               reported_controller_.c_str(), r.c_str());
 }
 
 void JoystickPump::on_readable(TimeUs now) {
@@ -73,6 +86,12 @@ void JoystickPump::handle(JsDevice::Status s, TimeUs now) {
       break;
     case JsDevice::Status::changed:
       break;
+    case JsDevice::Status::reinit:
+      std::fprintf(stderr,
+                   "tiller-teleop: %s sent start-up (INIT) events after ordinary input: neutral, "
+                   "disarm requested, waiting for the stick to be centred (joystick.reinit)\n",
+                   dev_.description().c_str());
+      break;
   }
   if (node_.note_bad_js_events(dev_.parser().bad_events()) && !warned_bad_events_) {
     warned_bad_events_ = true;
@@ -82,6 +101,7 @@ void JoystickPump::handle(JsDevice::Status s, TimeUs now) {
                  dev_.description().c_str());
   }
   node_.feed(dev_.state(), now);
+  report_vehicle();
 }
 
 }  // namespace tiller

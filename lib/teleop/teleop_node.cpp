@@ -56,12 +56,16 @@ TeleopNode::TeleopNode(TeleopParams params, Input input)
   disconnects_ = &counter("joystick.disconnects");
   presses_ = &counter("buttons.presses");
   bounces_ = &counter("buttons.bounces_ignored");
+  reinits_ = &counter("joystick.reinit");
   js_msg_.device = device_;
   js_msg_.connected = false;
   js_msg_.n_axes = 0;
   js_msg_.n_buttons = 0;
   demand_msg_.valid = false;
+  demand_msg_.station = p_.station;
   velocity_msg_.valid = false;
+  velocity_msg_.station = p_.station;
+  js_msg_.late_inits = 0;
   update_health();
 }
 
@@ -109,8 +113,18 @@ void TeleopNode::on_arm_state(const arm_state_t& a, TimeUs now) {
   }
   armed_ = a.armed;
   arm_known_ = true;
-  arm_fresh_.mark(now, a.utime, clock_offset());
-  if ((armed_ ? 1 : 0) != arm_shown_) update_health();
+  boot_nonce_ = a.boot_nonce;
+  // Fresh by arrival, not by its stamp: the topside's clock may be out of step with the
+  // vehicle's, and what the pilot must see is the vehicle's own state (on_time above refuses
+  // only what is beyond the skew any signed message can have).
+  arm_fresh_.mark(now, now, clock_offset());
+  const bool told = a.controller != controller_ || a.reason != vehicle_reason_;
+  if (a.controller != controller_) controller_ = a.controller;
+  if (a.reason != vehicle_reason_) vehicle_reason_ = a.reason;
+  if ((armed_ ? 1 : 0) != arm_shown_ || told) {
+    update_health();
+    publish_heartbeat_now(now);  // the pilot learns a refusal or a takeover at once
+  }
 }
 
 void TeleopNode::on_mode(const controller_mode_t& m, TimeUs now) {
@@ -145,6 +159,7 @@ void TeleopNode::process(const joystick_state_t& s, TimeUs now) {
     js_msg_.axes.assign(s.axes.begin(), s.axes.begin() + s.n_axes);
     js_msg_.n_buttons = s.n_buttons;
     js_msg_.buttons.assign(s.buttons.begin(), s.buttons.begin() + s.n_buttons);
+    js_msg_.late_inits = s.late_inits;
     if (!s.connected) std::fill(js_msg_.axes.begin(), js_msg_.axes.end(), 0);
     if (!s.connected) std::fill(js_msg_.buttons.begin(), js_msg_.buttons.end(), false);
   }
@@ -167,6 +182,8 @@ void TeleopNode::apply_state(const joystick_state_t& s, TimeUs now) {
     return;
   }
 
+  if (connected_ && s.late_inits != late_inits_) device_reinit(s, now);
+  late_inits_ = s.late_inits;
   const std::size_t nb = static_cast<std::size_t>(s.n_buttons);
   raw_axes_.assign(s.axes.begin(), s.axes.begin() + s.n_axes);
   if (!connected_) {
@@ -200,6 +217,32 @@ void TeleopNode::apply_state(const joystick_state_t& s, TimeUs now) {
   if (changed && p_.publish_on_change) publish_outputs(now);
 }
 
+void TeleopNode::device_reinit(const joystick_state_t& s, TimeUs now) {
+  // The device re-sent its start-up state after ordinary input: whatever it says now is not a
+  // deliberate move. As on a reconnection: neutral at once, held buttons ignored until
+  // released, and a centred stick before anything counts; and ask the vehicle to disarm.
+  ++*reinits_;
+  connected_ = false;  // apply_state() then runs its connection path with this state
+  centred_ = false;
+  compute_demand();
+  publish_outputs(now);
+  send_arm_request(false, false, now);
+  (void)s;
+  update_health();
+  publish_heartbeat_now(now);
+}
+
+void TeleopNode::send_arm_request(bool arm, bool takeover, TimeUs now) {
+  arm_request_t r;
+  r.utime = now;
+  r.arm = arm;
+  r.source = "teleop";
+  r.boot_nonce = boot_nonce_;
+  r.station = p_.station;
+  r.takeover = takeover;
+  publish(channels::kArmRequest, r);
+}
+
 void TeleopNode::update_buttons(TimeUs now) {
   if (!connected_) return;
   for (std::size_t i = 0; i < raw_buttons_.size(); ++i) {
@@ -216,12 +259,8 @@ void TeleopNode::update_buttons(TimeUs now) {
 void TeleopNode::on_press(int b, TimeUs now) {
   ++*presses_;
   const TeleopButtons& k = p_.buttons;
-  if (b == k.arm || b == k.disarm) {
-    arm_request_t r;
-    r.utime = now;
-    r.arm = b == k.arm;
-    r.source = "teleop";
-    publish(channels::kArmRequest, r);
+  if (b == k.arm || b == k.disarm || b == k.takeover) {
+    send_arm_request(b != k.disarm, b == k.takeover, now);
   }
   bool mode_changed = false;
   if (b == k.mode_open_loop) mode_ = controller_mode_t::MANUAL_OPEN_LOOP, mode_changed = true;
@@ -391,23 +430,29 @@ void TeleopNode::shutdown(TimeUs now) {
 void TeleopNode::update_health() {
   const int arm = arm_known_ ? (armed_ ? 1 : 0) : -1;
   arm_shown_ = arm;
-  const char* arm_text = arm < 0 ? "; arm state unknown" : arm ? "; ARMED" : "; disarmed";
+  std::string arm_text = arm < 0 ? "; arm state unknown" : arm ? "; ARMED" : "; disarmed";
+  if (arm >= 0) {
+    if (armed_ && !controller_.empty())
+      arm_text += controller_ == p_.station ? " (this station in control)"
+                                            : " (station " + controller_ + " in control)";
+    if (!vehicle_reason_.empty()) arm_text += "; vehicle: " + vehicle_reason_;
+  }
   static const char* const mode_names[9] = {
       "open-loop manual", "closed-loop manual", "autonomous", "stabilise",
       "depth hold",       "heading hold",       "rate",       "surface",
       "position hold"};
   const char* mode = mode_ >= 0 && mode_ <= 8 ? mode_names[mode_] : "?";
-  char buf[160];
+  char buf[512];
   if (!connected_) {
-    std::snprintf(buf, sizeof buf, "joystick absent (%s)%s", device_.c_str(), arm_text);
+    std::snprintf(buf, sizeof buf, "joystick absent (%s)%s", device_.c_str(), arm_text.c_str());
     set_health(heartbeat_t::STATE_DEGRADED, buf);
   } else if (!centred_) {
     std::snprintf(buf, sizeof buf, "joystick connected, waiting for the stick to be centred%s",
-                  arm_text);
+                  arm_text.c_str());
     set_health(heartbeat_t::STATE_DEGRADED, buf);
   } else {
     std::snprintf(buf, sizeof buf, "joystick ok; mode %s%s; gain %.2f%s", mode,
-                  translation_ ? " (translation)" : "", gain_, arm_text);
+                  translation_ ? " (translation)" : "", gain_, arm_text.c_str());
     set_health(heartbeat_t::STATE_OK, buf);
   }
 }

@@ -4,7 +4,15 @@
 // either fed by the app straight from the device (feed(), live mode: the node then publishes
 // TILLER_JOYSTICK itself, for logs) or, for replay, taken from TILLER_JOYSTICK
 // (Input::replay). Optional TILLER_ODOMETRY gives the heading for closed-loop heading hold;
-// TILLER_ARM_STATE (from tiller-esc) is shown in the heartbeat status for the pilot.
+// TILLER_ARM_STATE (from tiller-esc) is shown in the heartbeat status for the pilot: armed or
+// not, the station in control and the vehicle's reason (a refusal: "another station in control:
+// B", "stick not centred", ...), the heartbeat going out at once when they change. Its freshness
+// is judged by arrival time, so a topside clock out of step with the vehicle's still shows the
+// vehicle's state. Arm requests carry the latest arm state's boot nonce and params.station; the
+// takeover button asks for control while another station holds it.
+// A rise in joystick_state_t.late_inits (the device re-sent its start-up state after ordinary
+// input) is treated as a reconnection: neutral and invalid at once, a disarm request, and the
+// stick must be centred again (counted in joystick.reinit).
 // Outputs, every period and at once when the stick moves (publish_on_change):
 //   TILLER_MANUAL_DEMAND   normalised [X Y Z K M N] FRD in [-1, 1] (see teleop_params.hpp)
 //   TILLER_MANUAL_VELOCITY body [u v w] m/s and yaw rate / heading / torque (seed 004)
@@ -60,6 +68,11 @@ class TeleopNode : public Node {
   // For tests and the heartbeat.
   bool connected() const { return connected_; }
   bool centred() const { return centred_; }
+  // The vehicle's latest arm state as this station sees it.
+  bool arm_known() const { return arm_known_; }
+  bool armed() const { return armed_; }
+  const std::string& controller() const { return controller_; }
+  const std::string& vehicle_reason() const { return vehicle_reason_; }
   double gain() const { return gain_; }
   std::int8_t mode() const { return mode_; }
   bool is_translation() const { return translation_; }
@@ -79,6 +92,8 @@ class TeleopNode : public Node {
   void update_buttons(TimeUs now);
   void on_press(int button, TimeUs now);
   bool compute_demand();  // from raw_*; returns true if the output changed
+  void device_reinit(const joystick_state_t& s, TimeUs now);
+  void send_arm_request(bool arm, bool takeover, TimeUs now);
   void publish_outputs(TimeUs now);
   void publish_mode(TimeUs now);
   void update_health();
@@ -120,6 +135,11 @@ class TeleopNode : public Node {
   int arm_shown_ = -1;  // -1 unknown, 0 disarmed, 1 armed: what the status says
   bool armed_ = false;
   bool arm_known_ = false;  // a fresh TILLER_ARM_STATE
+  std::int64_t boot_nonce_ = 0;  // the latest arm state's (arm requests carry it)
+  std::string controller_;       // its station in control
+  std::string vehicle_reason_;   // its reason
+  std::int32_t late_inits_ = 0;  // the device's late INIT count at the last state
+  std::int64_t* reinits_;
 };
 
 }  // namespace tiller

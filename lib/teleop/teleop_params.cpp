@@ -82,6 +82,7 @@ TeleopParams load_teleop(const config::Value& root) {
           Slot{"mode_autonomous", &p.buttons.mode_autonomous},
           Slot{"toggle_translation", &p.buttons.toggle_translation},
           Slot{"gain_up", &p.buttons.gain_up}, Slot{"gain_down", &p.buttons.gain_down},
+          Slot{"takeover", &p.buttons.takeover},
           Slot{"mode_stabilise", &p.buttons.mode_stabilise},
           Slot{"mode_depth_hold", &p.buttons.mode_depth_hold},
           Slot{"mode_heading_hold", &p.buttons.mode_heading_hold},
@@ -138,6 +139,8 @@ TeleopParams load_teleop(const config::Value& root) {
                    : m == "closed_loop" ? controller_mode_t::MANUAL_CLOSED_LOOP
                                         : controller_mode_t::WAYPOINTING;
   p.initial_translation = root.boolean_or("initial_translation", false);
+  p.station = root.string_or("station", "");
+  if (p.station.size() > 64) root.at("station").fail("a station id of at most 64 characters");
   const double repeat_hz = root.number_or("mode_repeat_hz", 1.0, {0.0, 100.0});
   p.mode_repeat = repeat_hz > 0 ? from_hz(repeat_hz) : 0;
   root.check_all_used();

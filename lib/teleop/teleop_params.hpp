@@ -46,6 +46,8 @@ struct TeleopButtons {
   int mode_open_loop = -1, mode_closed_loop = -1, mode_autonomous = -1;
   int toggle_translation = -1;
   int gain_up = -1, gain_down = -1;
+  // Arm with takeover: take control from another station in control (docs/safety.md).
+  int takeover = -1;
   // The ROV pilot modes (tiller-rov-control; docs/flying.md): mode_open_loop is their manual.
   int mode_stabilise = -1, mode_depth_hold = -1, mode_heading_hold = -1, mode_rate = -1,
       mode_surface = -1, mode_position_hold = -1;
@@ -54,6 +56,10 @@ struct TeleopButtons {
 enum class YawMode { rate, heading_hold, torque };
 
 struct TeleopParams {
+  // This operator station's id, carried by its arm requests and manual commands: the station
+  // that armed is in control and another station's commands are refused (docs/safety.md).
+  // Empty in the file: tiller-teleop uses the host name.
+  std::string station;
   std::string device_path;         // e.g. /dev/input/js0, a FIFO or a file; empty: find by name
   std::string device_name;         // substring of JSIOCGNAME, used when device_path is empty
   TimeUs period = 20'000;          // fixed output rate (default 50 Hz)

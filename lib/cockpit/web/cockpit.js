@@ -101,6 +101,7 @@ function render() {
   const arm = msg('TILLER_ARM_STATE');
   pill('armed', arm ? (arm.armed ? 'ARMED' : 'disarmed') : 'arm ?', arm ? (arm.armed ? 'bad' : 'ok') : '');
   $('armreason').textContent = arm ? arm.reason : '-';
+  $('controller').textContent = arm && arm.armed ? (arm.controller || '(no station named)') : '-';
   const tc = msg('TILLER_THRUSTER_COMMAND');
   const gates = ['DISARMED', 'WAIT_NEUTRAL', 'ACTIVE', 'INPUT_LOST', 'TEST'];
   pill('gate', tc ? 'gate ' + gates[tc.gate] : 'gate ?', tc ? (tc.gate === 2 || tc.gate === 4 ? 'warn' : '') : '');
