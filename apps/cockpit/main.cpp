@@ -27,7 +27,8 @@ int main(int argc, char** argv) {
       cfg.node.processes = cockpit::split_list(args.get("processes"));
     if (cfg.node.station.empty()) {
       char host[256] = {};
-      cfg.node.station = std::string("cockpit@") + (gethostname(host, sizeof host - 1) == 0 ? host : "");
+      cfg.node.station =
+          std::string("cockpit@") + (gethostname(host, sizeof host - 1) == 0 ? host : "");
     }
     const std::string token = cfg.server.token.empty()
                                   ? cockpit::load_or_create_token(cfg.server.token_file)

@@ -17,7 +17,8 @@ int main(int argc, char** argv) {
       "config/teleop/extreme3dpro_seed000.yaml",
       {{"device", "PATH",
         "joystick device, FIFO or file (default: the config's device, e.g. /dev/input/js0)", ""},
-       {"station", "ID", "this operator station's id (default: the config's station, else the host name)", ""},
+       {"station", "ID",
+        "this operator station's id (default: the config's station, else the host name)", ""},
        {"replay", "", "take TILLER_JOYSTICK from LCM instead of a device", ""}}};
   const app::Args args = app::parse(argc, argv, spec);
   return app::guarded_main(spec.program, [&] {

@@ -38,8 +38,8 @@
 #include <string>
 
 #include <tiller/allocation_status_t.hpp>
-#include <tiller/arm_state_t.hpp>
 #include <tiller/arbitration_t.hpp>
+#include <tiller/arm_state_t.hpp>
 #include <tiller/controller_mode_t.hpp>
 #include <tiller/manual_demand_t.hpp>
 #include <tiller/odometry_t.hpp>

@@ -30,8 +30,8 @@
 #pragma once
 
 #include <tiller/allocation_status_t.hpp>
-#include <tiller/arm_state_t.hpp>
 #include <tiller/arbitration_t.hpp>
+#include <tiller/arm_state_t.hpp>
 #include <tiller/controller_mode_t.hpp>
 #include <tiller/manual_velocity_cmd_t.hpp>
 #include <tiller/odometry_t.hpp>

@@ -1,5 +1,7 @@
 #include "launch/launch_file.hpp"
 
+#include <algorithm>
+#include <cctype>
 #include <cstdlib>
 #include <filesystem>
 #include <functional>
@@ -143,7 +145,13 @@ LaunchFile load_launch(const config::Value& root, const std::string& file_dir) {
 
   lf.key_file = root.string_or("key_file", "");
   if (root.has("key_file")) lf.key_file_line = root.at("key_file").line();
-  lf.require_signed = root.boolean_or("require_signed", false);
+  lf.require_signed = root.boolean_or("require_signed", !lf.key_file.empty());
+  lf.allow_unsigned = root.boolean_or("allow_unsigned", false);
+  if (!lf.require_signed && !lf.key_file.empty() && !lf.allow_unsigned)
+    root.at("require_signed")
+        .fail(
+            "true (false lets anyone on the network command the vehicle; if that is meant, "
+            "say allow_unsigned: true as well)");
   lf.auth_window_s = root.number_or("auth_window_s", 1.0, {0.001, 3600.0});
   lf.clock_offset_s = root.number_or("clock_offset_s", 0.25, {0.0, 10.0});
   lf.create_key = root.boolean_or("create_key", false);
@@ -218,7 +226,29 @@ std::string substitute(const std::string& s, const std::map<std::string, std::st
       } else if (env && *env) {
         out += env;
       } else if (fallback) {
-        out += *fallback;
+        // $NAME inside the fallback expands too (e.g. $XDG_CONFIG_HOME/tiller/sim.key).
+        for (std::size_t k = 0; k < fallback->size(); ++k) {
+          const char c = (*fallback)[k];
+          std::size_t e = k + 1;
+          while (
+              e < fallback->size() &&
+              (std::isalnum(static_cast<unsigned char>((*fallback)[e])) || (*fallback)[e] == '_'))
+            ++e;
+          if (c != '$' || e == k + 1) {
+            out += c;
+            continue;
+          }
+          const std::string v = fallback->substr(k + 1, e - k - 1);
+          const char* ev = std::getenv(v.c_str());
+          if (auto vt = vars.find(v); vt != vars.end()) {
+            out += vt->second;
+          } else if (ev && *ev) {
+            out += ev;
+          } else {
+            throw std::invalid_argument("unknown variable $" + v + " in \"" + s + "\"");
+          }
+          k = e - 1;
+        }
       } else {
         throw std::invalid_argument("unknown variable ${" + name + "} in \"" + s + "\"");
       }

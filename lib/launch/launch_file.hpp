@@ -9,9 +9,14 @@
 //   grace_s: 3                  # SIGTERM -> SIGKILL delay when stopping
 //   ends_with: mission          # the run ends when this process exits (its exit code decides)
 //   logger: {enabled: true, dir: logs, channels: ".*", split_mb: 0, rotate: 0}
-//   key_file: ${TILLER_KEY_FILE:-keys/sim.key}  # the vehicle's signing key (relative to root);
-//                               # children get it as TILLER_KEY_FILE (docs/safety.md)
-//   require_signed: true        # children refuse unsigned input (TILLER_REQUIRE_SIGNED=1)
+//   key_file: ${TILLER_KEY_FILE:-$XDG_CONFIG_HOME/tiller/sim.key}  # the vehicle's signing key
+//                               # (relative to root; $NAME expands inside a ${X:-fallback}, and
+//                               # XDG_CONFIG_HOME defaults to $HOME/.config); children get it as
+//                               # TILLER_KEY_FILE (docs/safety.md)
+//   require_signed: true        # children refuse unsigned input (TILLER_REQUIRE_SIGNED=1); the
+//                               # default with a key_file. false needs allow_unsigned: true too,
+//                               # and the launcher prints a WARNING at start
+//   allow_unsigned: false       # true: running with unsigned input accepted is meant
 //   auth_window_s: 1            # replay window (TILLER_AUTH_WINDOW_S)
 //   clock_offset_s: 0.25        # bound on clock offset between computers allowed on a
 //                               # message's utime (TILLER_CLOCK_OFFSET_S; docs/safety.md)
@@ -115,7 +120,8 @@ struct LaunchFile {
   // Message signing (docs/safety.md, "Who may command"). key_file as written (${VAR}
   // substituted when the run starts, then relative to root); line numbers for messages.
   std::string key_file;
-  bool require_signed = false;
+  bool require_signed = false;  // default: true when key_file is set
+  bool allow_unsigned = false;  // require_signed: false is meant (a WARNING at start)
   double auth_window_s = 1.0;
   double clock_offset_s = 0.25;  // core/time.hpp kDefaultClockOffsetUs
   bool create_key = false;

@@ -1,6 +1,7 @@
 #include "launch/signing.hpp"
 
 #include <cstdio>
+#include <cstdlib>
 #include <filesystem>
 #include <stdexcept>
 
@@ -16,7 +17,13 @@ std::map<std::string, std::string> signing_env(const LaunchFile& lf,
   const std::string where = lf.path + ":" + std::to_string(lf.key_file_line) + ": key_file: ";
   std::string key = key_file_override;
   try {
-    if (key.empty()) key = substitute(lf.key_file, vars);
+    // XDG_CONFIG_HOME as the XDG base directory specification defines it: $HOME/.config unset.
+    std::map<std::string, std::string> v = vars;
+    const char* xdg = std::getenv("XDG_CONFIG_HOME");
+    const char* home = std::getenv("HOME");
+    if (!(xdg && *xdg) && !v.count("XDG_CONFIG_HOME"))
+      v["XDG_CONFIG_HOME"] = std::string(home && *home ? home : "/root") + "/.config";
+    if (key.empty()) key = substitute(lf.key_file, v);
   } catch (const std::exception& e) {
     throw std::runtime_error(where + e.what());
   }
@@ -54,9 +61,12 @@ std::map<std::string, std::string> signing_env(const LaunchFile& lf,
 
 std::string signing_summary(const LaunchFile& lf, const std::map<std::string, std::string>& env) {
   const auto k = env.find("TILLER_KEY_FILE");
-  if (k == env.end()) return "signing: off (no key_file)";
+  if (k == env.end())
+    return "WARNING: signing off (no key_file): anyone on this network can command the vehicle";
   return "signing: key " + k->second +
-         (lf.require_signed ? ", unsigned input refused" : ", unsigned input accepted");
+         (lf.require_signed ? ", unsigned input refused"
+                            : ", WARNING: unsigned input accepted (allow_unsigned: true): anyone "
+                              "on this network can command the vehicle");
 }
 
 }  // namespace tiller::launch

@@ -71,8 +71,8 @@ class MissionNode : public Node {
   bool arm_;
   bool arm_sent_ = false;
   bool path_sent_ = false;
-  bool have_arm_state_ = false;     // a TILLER_ARM_STATE seen: its boot nonce is known
-  std::int64_t boot_nonce_ = 0;     // the arm request carries it
+  bool have_arm_state_ = false;  // a TILLER_ARM_STATE seen: its boot nonce is known
+  std::int64_t boot_nonce_ = 0;  // the arm request carries it
   bool start_sent_ = false;
   int sent_ = 0;
   std::string name_;

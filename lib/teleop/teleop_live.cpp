@@ -58,10 +58,9 @@ void JoystickPump::report_vehicle() {
   if (r == reported_reason_ && node_.controller() == reported_controller_) return;
   reported_reason_ = r;
   reported_controller_ = node_.controller();
-  std::fprintf(stderr, "tiller-teleop: vehicle %s%s%s: %s\n",
-               node_.armed() ? "ARMED" : "disarmed",
-               reported_controller_.empty() ? "" : ", in control: ",
-               reported_controller_.c_str(), r.c_str());
+  std::fprintf(stderr, "tiller-teleop: vehicle %s%s%s: %s\n", node_.armed() ? "ARMED" : "disarmed",
+               reported_controller_.empty() ? "" : ", in control: ", reported_controller_.c_str(),
+               r.c_str());
 }
 
 void JoystickPump::on_readable(TimeUs now) {

@@ -134,7 +134,7 @@ class TeleopNode : public Node {
   Freshness arm_fresh_{500'000};
   int arm_shown_ = -1;  // -1 unknown, 0 disarmed, 1 armed: what the status says
   bool armed_ = false;
-  bool arm_known_ = false;  // a fresh TILLER_ARM_STATE
+  bool arm_known_ = false;       // a fresh TILLER_ARM_STATE
   std::int64_t boot_nonce_ = 0;  // the latest arm state's (arm requests carry it)
   std::string controller_;       // its station in control
   std::string vehicle_reason_;   // its reason

@@ -90,11 +90,14 @@ thruster_command_t command(double v, bool armed) {
   return c;
 }
 
-arm_request_t arm_request(bool arm) {
+// An arm request carries the boot nonce of tiller-esc's latest arm state (0: none heard).
+arm_request_t arm_request(bool arm, std::int64_t nonce = 0, const std::string& station = "") {
   arm_request_t a{};
   a.utime = realtime_us();
   a.arm = arm;
   a.source = "who_may_command_test";
+  a.boot_nonce = nonce;
+  a.station = station;
   return a;
 }
 
@@ -142,13 +145,18 @@ struct Rig {
     l.subscribe(channels::kThrusterCommand, &Ear::on_raw, &ear);
   }
   // tiller-esc on the dry-run bus, signing with `key`, refusing unsigned input.
-  std::unique_ptr<e2e::Proc> esc(const std::string& key, const std::string& out) {
+  std::unique_ptr<e2e::Proc> esc(const std::string& key, const std::string& out,
+                                 const std::string& window_s = "1") {
     return std::make_unique<e2e::Proc>(
         kEsc,
         std::vector<std::string>{"--config", kSrc + "/config/esc/seed000_dry_run.yaml", "--lcm-url",
                                  kUrl, "--key-file", key, "--require-signed", "--auth-window-s",
-                                 "1"},
+                                 window_s},
         false, dir.file(out));
+  }
+  // Waits for tiller-esc's first arm state (its boot nonce) and heartbeat.
+  bool up(const std::function<void()>& each) {
+    return pump([&] { return ear.heartbeats > 0 && ear.have_arm; }, 10.0, each);
   }
   // Pumps LCM until pred() or `seconds`; each() runs every 10 ms (a sender's rate).
   bool pump(const std::function<bool()>& pred, double seconds,
@@ -206,9 +214,8 @@ TEST(WhoMayCommand, ForeignThrusterCommandsNeverReachTheBus) {
   Sender foreign(r.l, "", "");         // no key: unsigned
   Sender insider(r.l, key, "teleop");  // the vehicle key, but not the mixer's identity
   auto neutral = [&] { mixer.publish(channels::kThrusterCommand, command(0, true)); };
-  ASSERT_TRUE(r.pump([&] { return r.ear.heartbeats > 0; }, 10.0, neutral))
-      << slurp(r.dir.file("esc1.out"));
-  teleop.publish(channels::kArmRequest, arm_request(true));
+  ASSERT_TRUE(r.up(neutral)) << slurp(r.dir.file("esc1.out"));
+  teleop.publish(channels::kArmRequest, arm_request(true, r.ear.arm.boot_nonce));
   ASSERT_TRUE(r.pump([&] { return r.ear.have_arm && r.ear.arm.armed; }, 5.0, neutral))
       << "the legitimate arm request was not accepted: " << slurp(r.dir.file("esc1.out"));
   // Foreign commands of 0.8 among the mixer's neutral ones, armed all along, until the ESC has
@@ -290,8 +297,8 @@ TEST(WhoMayCommand, ReplayedArmRequestIsRefused) {
   auto esc = r.esc(key, "esc3.out");
   Sender mixer(r.l, key, "mixer"), teleop(r.l, key, "teleop");
   auto neutral = [&] { mixer.publish(channels::kThrusterCommand, command(0, false)); };
-  ASSERT_TRUE(r.pump([&] { return r.ear.heartbeats > 0; }, 10.0, neutral));
-  teleop.publish(channels::kArmRequest, arm_request(true));
+  ASSERT_TRUE(r.up(neutral));
+  teleop.publish(channels::kArmRequest, arm_request(true, r.ear.arm.boot_nonce));
   ASSERT_TRUE(r.pump([&] { return r.ear.have_arm && r.ear.arm.armed; }, 5.0, neutral));
   ASSERT_EQ(r.ear.arm_packets.size(), 1u);
   const auto captured = r.ear.arm_packets.front();  // as it was on the wire
@@ -325,8 +332,8 @@ TEST(WhoMayCommand, ReplayedThrusterCommandIsRefused) {
   Sender mixer(r.l, key, "mixer"), teleop(r.l, key, "teleop");
   double v = 0;
   auto send = [&] { mixer.publish(channels::kThrusterCommand, command(v, true)); };
-  ASSERT_TRUE(r.pump([&] { return r.ear.heartbeats > 0; }, 10.0, send));
-  teleop.publish(channels::kArmRequest, arm_request(true));
+  ASSERT_TRUE(r.up(send));
+  teleop.publish(channels::kArmRequest, arm_request(true, r.ear.arm.boot_nonce));
   ASSERT_TRUE(r.pump([&] { return r.ear.have_arm && r.ear.arm.armed; }, 5.0, send));
   // The mixer commands 0.5 for a moment: the ESC obeys (16384 = 0.5 of full throttle).
   v = 0.5;
@@ -354,6 +361,98 @@ TEST(WhoMayCommand, ReplayedThrusterCommandIsRefused) {
   ASSERT_GT(r.ear.outputs.size(), from);
   for (std::size_t i = from; i < r.ear.outputs.size(); ++i)
     ASSERT_TRUE(all_neutral(r.ear.outputs[i])) << "output " << i << " left neutral";
+}
+
+// Issue 30, scenario 2: a signed arm request captured live and replayed into a restarted ESC at
+// once, well inside the signing window (here 10 s, so the window cannot be what stops it; a
+// wall-clock step changes nothing either: the nonce is not a time). Before the boot nonce the
+// restarted ESC (which knows no stream yet) re-armed; now it refuses and counts each replay.
+TEST(WhoMayCommand, ArmReplayedIntoARestartedEscIsRefused) {
+  Rig r;
+  ASSERT_TRUE(r.l.good());
+  const std::string key = r.dir.key("vehicle.key");
+  auto esc = r.esc(key, "esc5.out", "10");
+  Sender mixer(r.l, key, "mixer"), teleop(r.l, key, "teleop");
+  auto neutral = [&] { mixer.publish(channels::kThrusterCommand, command(0, false)); };
+  ASSERT_TRUE(r.up(neutral));
+  const std::int64_t first_nonce = r.ear.arm.boot_nonce;
+  EXPECT_NE(first_nonce, 0);
+  teleop.publish(channels::kArmRequest, arm_request(true, first_nonce));
+  ASSERT_TRUE(r.pump([&] { return r.ear.arm.armed; }, 5.0, neutral));
+  ASSERT_EQ(r.ear.arm_packets.size(), 1u);
+  const auto captured = r.ear.arm_packets.front();
+  esc->stop();  // the vehicle's ESC process restarts
+  r.ear.heartbeats = 0;
+  r.ear.have_arm = false;
+  esc = r.esc(key, "esc5b.out", "10");
+  ASSERT_TRUE(r.up(neutral));
+  EXPECT_NE(r.ear.arm.boot_nonce, first_nonce) << "a new start draws a new nonce";
+  const TimeUs stamp = auth::read_trailer(captured.data() + captured.size() - 48).time_us;
+  const std::size_t from = r.ear.outputs.size();
+  int replays = 0;
+  // The first replay passes the signature checks (the new ESC knows no stream) and meets the
+  // nonce; the later copies are stopped earlier, as replays of that stream.
+  r.pump(
+      [&] {
+        return r.ear.counter("rejected.arm_request.boot_nonce") >= 1 &&
+               r.ear.counter("rejected.auth.replay") >= 10;
+      },
+      8.0,
+      [&] {
+        neutral();
+        r.l.publish(channels::kArmRequest, captured.data(), captured.size());
+        ++replays;
+        e2e::sleep_ms(20);
+      });
+  EXPECT_LT(realtime_us() - stamp, 10'000'000) << "the replays were inside the signing window";
+  ASSERT_TRUE(r.fresh_heartbeat(neutral));
+  EXPECT_EQ(r.ear.counter("rejected.arm_request.boot_nonce"), 1);
+  EXPECT_GE(r.ear.counter("rejected.auth.replay"), 10);
+  EXPECT_LE(r.ear.counter("rejected.auth.replay") + 1, replays);
+  EXPECT_FALSE(r.ear.arm.armed);
+  EXPECT_NE(r.ear.arm.reason.find("boot nonce differs"), std::string::npos) << r.ear.arm.reason;
+  int off = 0;
+  for (std::size_t i = from; i < r.ear.outputs.size(); ++i) off += !all_neutral(r.ear.outputs[i]);
+  EXPECT_EQ(off, 0) << "outputs off neutral after the restart";
+  std::printf("replayed arm into a restarted ESC: %d replays, %d of %zu outputs off neutral\n",
+              replays, off, r.ear.outputs.size() - from);
+  esc->stop();
+  expect_bus_neutral(slurp(r.dir.file("esc5b.out")));
+}
+
+// Issue 30, scenario 3 at the ESC: station A arms; station B (same key) is refused and told who
+// holds control; B's takeover is a new session that names B, and A's disarm still stops it.
+TEST(WhoMayCommand, OneStationInControlAndATakeoverIsSeen) {
+  Rig r;
+  ASSERT_TRUE(r.l.good());
+  const std::string key = r.dir.key("vehicle.key");
+  auto esc = r.esc(key, "esc6.out");
+  Sender mixer(r.l, key, "mixer"), a(r.l, key, "teleop"), b(r.l, key, "teleop_b");
+  auto neutral = [&] { mixer.publish(channels::kThrusterCommand, command(0, false)); };
+  ASSERT_TRUE(r.up(neutral));
+  const std::int64_t nonce = r.ear.arm.boot_nonce;
+  a.publish(channels::kArmRequest, arm_request(true, nonce, "A"));
+  ASSERT_TRUE(r.pump([&] { return r.ear.arm.armed && r.ear.arm.controller == "A"; }, 5.0, neutral));
+  const std::int64_t session = r.ear.arm.session;
+  b.publish(channels::kArmRequest, arm_request(true, nonce, "B"));
+  ASSERT_TRUE(r.pump(
+      [&] { return r.ear.arm.reason.find("another station in control: A") != std::string::npos; },
+      5.0, neutral))
+      << r.ear.arm.reason;
+  EXPECT_EQ(r.ear.arm.controller, "A");
+  EXPECT_EQ(r.ear.arm.session, session);
+  EXPECT_EQ(r.counter_after("rejected.arm_request.station", 1, neutral), 1);
+  arm_request_t take = arm_request(true, nonce, "B");
+  take.takeover = true;
+  b.publish(channels::kArmRequest, take);
+  ASSERT_TRUE(r.pump([&] { return r.ear.arm.controller == "B"; }, 5.0, neutral));
+  EXPECT_EQ(r.ear.arm.reason, "control taken by B from A");
+  EXPECT_EQ(r.ear.arm.session, session + 1) << "a takeover is a new session";
+  EXPECT_TRUE(r.ear.arm.armed);
+  EXPECT_EQ(r.counter_after("arm.takeovers", 1, neutral), 1);
+  a.publish(channels::kArmRequest, arm_request(false, 0, "A"));  // any station may stop it
+  ASSERT_TRUE(r.pump([&] { return !r.ear.arm.armed; }, 5.0, neutral));
+  EXPECT_EQ(r.ear.arm.controller, "");
 }
 
 }  // namespace

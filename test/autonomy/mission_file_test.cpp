@@ -1,5 +1,7 @@
 // Mission files: YAML and CSV forms, the shipped missions, errors that name file and line.
 #include <gtest/gtest.h>
+#include <tiller/arm_request_t.hpp>
+#include <tiller/arm_state_t.hpp>
 
 #include <cstdio>
 #include <fstream>
@@ -94,12 +96,26 @@ TEST(MissionNode, PublishesPathThenModeAndArmRequest) {
   LockstepExecutor ex(0);
   ex.add(node);
   std::vector<std::string> order;
-  ex.observe([&](const std::string& ch, const std::uint8_t*, int, TimeUs) { order.push_back(ch); });
+  std::vector<arm_request_t> arms;
+  ex.observe([&](const std::string& ch, const std::uint8_t* d, int n, TimeUs) {
+    order.push_back(ch);
+    if (ch == channels::kArmRequest && arms.emplace_back().decode(d, 0, n) < 0) arms.pop_back();
+  });
+  // tiller-esc's arm state (its boot nonce) comes at 0.5 s: the arm request waits for it.
+  arm_state_t st{};
+  st.utime = 500'000;
+  st.boot_nonce = 77;
+  st.reason = "disarmed at start";
+  ex.inject(channels::kArmState, st, 500'000);
   ex.run_until(1'500'000);
   ASSERT_GE(order.size(), 6u);
   EXPECT_EQ(order[0], channels::kPath);
   EXPECT_EQ(order[1], channels::kMode);
-  EXPECT_EQ(order[2], channels::kArmRequest);
+  EXPECT_NE(order[2], channels::kArmRequest);
+  ASSERT_EQ(arms.size(), 1u);
+  EXPECT_TRUE(arms[0].arm);
+  EXPECT_EQ(arms[0].boot_nonce, 77);
+  EXPECT_EQ(arms[0].utime, 500'000);
   EXPECT_EQ(node.sent(), 2);  // at 0 s and 1 s
 }
 

@@ -145,10 +145,22 @@ TEST(EscApp, DryRunArmsWritesAndWritesNeutralOnSigterm) {
     l.publish(channels::kThrusterCommand, &cmd);
   };
   send();
+  ASSERT_TRUE(pump_until(
+      l, [&] { return rx.last_arm.boot_nonce != 0; }, 5.0, send))
+      << "tiller-esc announces a random boot nonce";
+  // An arm request without it (or with another start's) is refused and says why.
   arm_request_t arm{};
   arm.utime = wall_time_us();
   arm.arm = true;
   arm.source = "app_test";
+  arm.boot_nonce = rx.last_arm.boot_nonce + 1;
+  l.publish(channels::kArmRequest, &arm);
+  ASSERT_TRUE(pump_until(
+      l, [&] { return rx.last_arm.reason.find("boot nonce differs") != std::string::npos; }, 5.0,
+      send));
+  EXPECT_FALSE(rx.last_arm.armed);
+  arm.utime = wall_time_us();
+  arm.boot_nonce = rx.last_arm.boot_nonce;
   l.publish(channels::kArmRequest, &arm);
   ASSERT_TRUE(pump_until(
       l, [&] { return rx.last_arm.armed; }, 5.0, send));

@@ -95,11 +95,12 @@ TEST(FailsafeLive, LeakSurfacesAtOnceAndACriticalBatteryDisarms) {
     k.readable = {1};
     k.any_wet = wet;
     l.publish(channels::kLeak, &k);
-    if (arm_sent < 0 && now - t0 > 1'500'000) {
+    if (arm_sent < 0 && now - t0 > 1'500'000 && rx.arm.boot_nonce != 0) {
       arm_request_t a{};
       a.utime = now;
       a.arm = true;
       a.source = "test";
+      a.boot_nonce = rx.arm.boot_nonce;  // tiller-esc's, from its arm state
       l.publish(channels::kArmRequest, &a);
       arm_sent = now;
     }
