@@ -3,6 +3,7 @@
 // tiller-mission's node publishing nothing (no path, no arm request) until the estimate is good.
 #include <gtest/gtest.h>
 
+#include <tiller/arm_state_t.hpp>
 #include <tiller/heartbeat_t.hpp>
 
 #include <cmath>
@@ -131,10 +132,13 @@ TEST(MissionNodeStartGate, PublishesNothingUntilTheEstimateIsGoodThenThePathAndA
   ex.observe([&](const std::string& ch, const std::uint8_t* d, int n, TimeUs) {
     if (ch == node.heartbeat_channel()) {
       if (hb.decode(d, 0, n) == n) seen.status = hb.status;
-    } else if (ch != channels::kOdometry) {
+    } else if (ch != channels::kOdometry && ch != channels::kArmState) {
       seen.channels.push_back(ch);
     }
   });
+  arm_state_t st{};  // tiller-esc's, for its boot nonce (the arm request waits for one)
+  st.reason = "disarmed at start";
+  ex.inject(channels::kArmState, st, 0);
   // 0 to 5 s: position 1-sigma 1 m; 5 to 10 s: 0.4 m but one NaN sample, refused and counted.
   for (TimeUs t = 0; t < 10'000'000; t += 20'000) {
     odometry_t o = odom(t, t < 5'000'000 ? 1.0 : 0.16, t < 5'000'000 ? 1.0 : 0.16);

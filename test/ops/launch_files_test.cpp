@@ -46,6 +46,10 @@ TEST(LaunchFiles, EveryShippedFileChecksAndNamesExistingFiles) {
     SCOPED_TRACE(e.path().string());
     const LaunchFile lf = load_launch_file(e.path().string());
     EXPECT_EQ(fs::canonical(lf.root), fs::canonical(root));
+    // Issue 30: every shipped file signs and refuses unsigned input.
+    EXPECT_FALSE(lf.key_file.empty());
+    EXPECT_TRUE(lf.require_signed);
+    EXPECT_FALSE(lf.allow_unsigned);
     for (const auto& p : lf.processes) {
       for (const auto& raw : p.args) {
         const std::string a =

@@ -59,7 +59,45 @@ TEST(LaunchSigning, SettingsReachEveryProcess) {
   // Without a key file: no signing, and the children are told so.
   ASSERT_EQ(r.launch("", out), 0) << out;
   EXPECT_NE(out.find("key= require=0 window=1"), std::string::npos) << out;
-  EXPECT_NE(out.find("signing: off (no key_file)"), std::string::npos) << out;
+  EXPECT_NE(out.find("WARNING: signing off (no key_file)"), std::string::npos) << out;
+}
+
+// Issue 30, scenario 1: signing is the default. With a key_file, require_signed defaults to
+// true; require_signed: false without allow_unsigned: true is refused before anything starts,
+// naming the file, the line and the key; with it, the launcher warns at start. A key_file
+// fallback may use $XDG_CONFIG_HOME (else $HOME/.config), where create_key makes the key.
+TEST(LaunchSigning, SigningIsTheDefaultAndUnsignedMustBeMeant) {
+  LaunchRun r;
+  auth::write_key_file((r.dir / "v.key").string(), auth::generate_key(), false);
+  std::string out;
+  ASSERT_EQ(r.launch("key_file: v.key\n", out), 0) << out;
+  EXPECT_NE(out.find("require=1"), std::string::npos) << out;
+  EXPECT_EQ(r.launch("key_file: v.key\nrequire_signed: false\n", out), 2) << out;
+  EXPECT_NE(out.find("run.yaml:5: require_signed: expected true (false lets anyone on the "
+                     "network command the vehicle; if that is meant, say allow_unsigned: true"),
+            std::string::npos)
+      << out;
+  ASSERT_EQ(r.launch("key_file: v.key\nrequire_signed: false\nallow_unsigned: true\n", out), 0)
+      << out;
+  EXPECT_NE(out.find("require=0"), std::string::npos) << out;
+  EXPECT_NE(out.find("WARNING: unsigned input accepted (allow_unsigned: true)"), std::string::npos)
+      << out;
+  // The shipped simulator files' form: the key made on first use outside the repository.
+  const fs::path xdg = r.dir / "xdg";
+  ::setenv("XDG_CONFIG_HOME", xdg.c_str(), 1);
+  ::unsetenv("TILLER_KEY_FILE");
+  ASSERT_EQ(
+      r.launch("key_file: ${TILLER_KEY_FILE:-$XDG_CONFIG_HOME/tiller/sim.key}\ncreate_key: true\n",
+               out),
+      0)
+      << out;
+  const fs::path made = xdg / "tiller" / "sim.key";
+  EXPECT_TRUE(fs::exists(made)) << out;
+  EXPECT_EQ(fs::status(made).permissions() & fs::perms::all,
+            fs::perms::owner_read | fs::perms::owner_write);
+  EXPECT_NE(out.find("made a new signing key " + made.string()), std::string::npos) << out;
+  EXPECT_NE(out.find("key=" + made.string() + " require=1"), std::string::npos) << out;
+  ::unsetenv("XDG_CONFIG_HOME");
 }
 
 TEST(LaunchSigning, BadKeyFilesStopTheLaunchNamingTheFile) {
