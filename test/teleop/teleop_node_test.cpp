@@ -3,9 +3,12 @@
 // modes, closed-loop manual velocity with heading hold, replay identity, bad input and config.
 #include <gtest/gtest.h>
 
+#include <algorithm>
 #include <cmath>
 #include <cstring>
 
+#include <tiller/arm_state_t.hpp>
+#include <tiller/heartbeat_t.hpp>
 #include <tiller/manual_velocity_cmd_t.hpp>
 
 #include "runtime/replay.hpp"
@@ -546,6 +549,114 @@ TEST(Config, ErrorsNameKeyAndExpectation) {
   EXPECT_NE(err("device: {path: x}\naxes:\n  - {axis: 1, dof: surge, sign: 1, deadzone: 0.95}\n")
                 .find("deadzone"),
             std::string::npos);
+}
+
+// Issue 30, scenario 4: the joystick's start-up (INIT) events sent again after ordinary input
+// while armed (a split, out-of-order INIT, as the kernel never sends it) put no thrust out: the
+// demand goes neutral and invalid at once, a disarm request goes out, and the stick must be
+// centred again. Before, the late INIT's full deflection became the demand.
+TEST(LateInit, InitAfterInputGoesNeutralAsksToDisarmAndWaitsForCentre) {
+  Rig r(load_teleop_file(config_path("extreme3dpro_seed000.yaml")));
+  auto send = [&](TimeUs t, std::vector<JsEvent> ev) {
+    r.parser.feed(reinterpret_cast<const std::uint8_t*>(ev.data()), ev.size() * sizeof(JsEvent),
+                  r.state);
+    r.state.connected = true;
+    r.feed(t);
+  };
+  std::vector<JsEvent> init;
+  for (std::uint8_t a = 0; a < 6; ++a) init.push_back({0, 0, kJsEventAxis | kJsEventInit, a});
+  for (std::uint8_t b = 0; b < 12; ++b) init.push_back({0, 0, kJsEventButton | kJsEventInit, b});
+  send(ms(100), init);
+  send(ms(200), {{200, -16000, kJsEventAxis, 1}});  // the pilot pushes the stick
+  const manual_demand_t moving = r.demand_at(ms(200));
+  ASSERT_TRUE(moving.valid);
+  double moved = 0;
+  for (double d : moving.demand) moved = std::max(moved, std::abs(d));
+  ASSERT_GT(moved, 0.3);
+  EXPECT_EQ(r.state.late_inits, 0);
+  // The late INIT: the device "re-reports" axis 1 at full deflection.
+  send(ms(300), {{300, -32767, kJsEventAxis | kJsEventInit, 1}});
+  EXPECT_EQ(r.state.late_inits, 1);
+  EXPECT_EQ(r.node.counter_value("joystick.reinit"), 1);
+  const manual_demand_t after = r.demand_at(ms(300));
+  EXPECT_FALSE(after.valid);
+  for (double d : after.demand) EXPECT_EQ(d, 0.0);
+  const auto req = r.all<arm_request_t>(channels::kArmRequest);
+  ASSERT_EQ(req.size(), 1u);
+  EXPECT_EQ(req[0].first, ms(300));
+  EXPECT_FALSE(req[0].second.arm);
+  // Still deflected: neutral and invalid for as long as it is held.
+  r.run_until(ms(800));
+  for (const auto& [t, m] : r.all<manual_demand_t>(channels::kManualDemand)) {
+    if (t <= ms(300)) continue;  // at 300 ms the tick (before the read) still had the push
+    EXPECT_FALSE(m.valid) << t;
+    for (double d : m.demand) EXPECT_EQ(d, 0.0) << t;
+  }
+  // Centred again: valid (and zero) again.
+  send(ms(900), {{900, 0, kJsEventAxis, 1}});
+  EXPECT_TRUE(r.demand_at(ms(900)).valid);
+}
+
+// The kernel's own order (every INIT first, in one read or split over several reads) is no late
+// INIT, so a plug-in never disarms.
+TEST(LateInit, SplitInitInTheKernelsOrderIsNotLate) {
+  JsEventParser p;
+  joystick_state_t s{};
+  std::vector<JsEvent> first{{0, 0, kJsEventAxis | kJsEventInit, 0}};
+  std::vector<JsEvent> rest{{0, 0, kJsEventAxis | kJsEventInit, 1},
+                            {0, 0, kJsEventButton | kJsEventInit, 0},
+                            {5, 100, kJsEventAxis, 0}};
+  p.feed(reinterpret_cast<const std::uint8_t*>(first.data()), sizeof(JsEvent), s);
+  p.feed(reinterpret_cast<const std::uint8_t*>(rest.data()), 3 * sizeof(JsEvent), s);
+  EXPECT_EQ(s.late_inits, 0);
+  EXPECT_EQ(p.init_events(), 3);
+  std::vector<JsEvent> late{{6, 0, kJsEventButton | kJsEventInit, 0}};
+  p.feed(reinterpret_cast<const std::uint8_t*>(late.data()), sizeof(JsEvent), s);
+  EXPECT_EQ(s.late_inits, 1);
+  EXPECT_EQ(p.late_init_events(), 1);
+}
+
+// Issue 30, the refusal display: the vehicle's reason and the station in control are in the
+// teleop's status at once (a heartbeat published on the change), whatever the clock skew
+// (the arm state is fresh by arrival: here stamped 0.7 s behind this station's clock).
+TEST(VehicleReason, ShownAtOnceWithTheControllerWhateverTheSkew) {
+  TeleopParams p = load_teleop_file(config_path("extreme3dpro_seed000.yaml"));
+  p.station = "B";
+  Rig r(p);
+  r.plug_in();
+  r.feed(ms(100));
+  arm_state_t a{};
+  a.utime = ms(1000) - 700'000;
+  a.armed = true;
+  a.session = 1;
+  a.boot_nonce = 99;
+  a.controller = "A";
+  a.reason = "arm refused (asked by teleop at station B): another station in control: A";
+  r.run_until(ms(1000));
+  r.bus.now = ms(1000);
+  std::vector<std::uint8_t> buf(static_cast<std::size_t>(a.getEncodedSize()));
+  a.encode(buf.data(), 0, static_cast<int>(buf.size()));
+  r.node.deliver(channels::kArmState, buf.data(), static_cast<int>(buf.size()), ms(1000));
+  const auto hbs = r.all<heartbeat_t>(r.node.heartbeat_channel());
+  ASSERT_FALSE(hbs.empty());
+  EXPECT_EQ(hbs.back().first, ms(1000));
+  EXPECT_NE(hbs.back().second.status.find("ARMED (station A in control); vehicle: arm refused "
+                                          "(asked by teleop at station B): another station in "
+                                          "control: A"),
+            std::string::npos)
+      << hbs.back().second.status;
+  EXPECT_TRUE(r.node.arm_known());
+  r.run_until(ms(1400));  // 0.4 s later, no new arm state: still known (fresh by arrival)
+  EXPECT_TRUE(r.node.arm_known());
+  // Its arm requests carry that nonce and this station.
+  r.state.buttons[static_cast<std::size_t>(p.buttons.arm)] = true;
+  r.feed(ms(1410));
+  r.run_until(ms(1500));
+  const auto req = r.all<arm_request_t>(channels::kArmRequest);
+  ASSERT_EQ(req.size(), 1u);
+  EXPECT_EQ(req[0].second.boot_nonce, 99);
+  EXPECT_EQ(req[0].second.station, "B");
+  EXPECT_FALSE(req[0].second.takeover);
 }
 
 }  // namespace
