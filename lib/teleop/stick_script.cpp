@@ -109,6 +109,7 @@ StickScriptNode::StickScriptNode(StickScriptParams p)
   invalid_odom_ = &counter("odometry.invalid");
   js_.device = "stick-script";
   js_.connected = true;
+  js_.late_inits = 0;
   js_.n_axes = p_.n_axes;
   js_.axes.assign(static_cast<std::size_t>(p_.n_axes), 0);
   js_.n_buttons = p_.n_buttons;

@@ -53,6 +53,7 @@ class Rig {
     state.connected = false;
     state.n_axes = 0;
     state.n_buttons = 0;
+    state.late_inits = 0;
   }
   ~Rig() { node.attach(nullptr); }
 
