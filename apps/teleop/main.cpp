@@ -19,12 +19,15 @@ int main(int argc, char** argv) {
         "joystick device, FIFO or file (default: the config's device, e.g. /dev/input/js0)", ""},
        {"station", "ID",
         "this operator station's id (default: the config's station, else the host name)", ""},
+       {"name", "NAME", "the node's name (default teleop; a second station's teleop needs its own)",
+        ""},
        {"replay", "", "take TILLER_JOYSTICK from LCM instead of a device", ""}}};
   const app::Args args = app::parse(argc, argv, spec);
   return app::guarded_main(spec.program, [&] {
     TeleopParams p = load_teleop_file(args.config);
     if (!args.get("device").empty()) p.device_path = args.get("device");
     if (!args.get("station").empty()) p.station = args.get("station");
+    if (!args.get("name").empty()) p.node_name = args.get("name");
     if (p.station.empty()) {
       char host[256] = {};
       p.station = gethostname(host, sizeof host - 1) == 0 && host[0] ? host : "teleop";

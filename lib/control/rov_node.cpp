@@ -145,6 +145,10 @@ void RovControlNode::switch_to(std::int8_t mode, const ModePlan& plan, TimeUs no
 void RovControlNode::on_arm_state(const arm_state_t& m, TimeUs now) {
   // Only the station in control matters here; freshness and arming are the mixer's and the ESC's.
   if (!on_time(m.utime, now, kEventMaxAgeUs, "arm_state")) return;
+  if (checks::check(m) != nullptr) {
+    reject(counter("rejected.arm_state.invalid"));  // made on first use
+    return;
+  }
   stations_.on_arm_state(m);
 }
 

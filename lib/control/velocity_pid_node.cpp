@@ -113,6 +113,10 @@ void VelocityPidNode::on_setpoint(const velocity_setpoint_t& m, TimeUs now) {
 void VelocityPidNode::on_arm_state(const arm_state_t& m, TimeUs now) {
   // Only the station in control matters here; freshness and arming are the mixer's and the ESC's.
   if (!on_time(m.utime, now, kEventMaxAgeUs, "arm_state")) return;
+  if (checks::check(m) != nullptr) {
+    reject(counter("rejected.arm_state.invalid"));  // made on first use
+    return;
+  }
   stations_.on_arm_state(m);
 }
 

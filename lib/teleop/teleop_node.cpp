@@ -32,7 +32,7 @@ double shape_axis(double x, double deadzone, double expo) {
 }
 
 TeleopNode::TeleopNode(TeleopParams params, Input input)
-    : Node("teleop", params.period),
+    : Node(params.node_name, params.period),
       p_(std::move(params)),
       input_(input),
       gain_(p_.gain_initial),

@@ -60,6 +60,9 @@ struct TeleopParams {
   // that armed is in control and another station's commands are refused (docs/safety.md).
   // Empty in the file: tiller-teleop uses the host name.
   std::string station;
+  // The node's name (heartbeat TILLER_HEARTBEAT_<NAME>, the signer's sender name): a second
+  // teleop on one network needs its own (tiller-teleop --name), so its signed streams are its own.
+  std::string node_name = "teleop";
   std::string device_path;         // e.g. /dev/input/js0, a FIFO or a file; empty: find by name
   std::string device_name;         // substring of JSIOCGNAME, used when device_path is empty
   TimeUs period = 20'000;          // fixed output rate (default 50 Hz)

@@ -658,7 +658,7 @@ inline std::vector<MissingKind> missing_kinds<arm_request_t>() {
 }
 template <>
 inline std::int64_t missing_kinds_hash<arm_request_t>() {
-  return static_cast<std::int64_t>(0x5be75ca084a595b5ULL);
+  return static_cast<std::int64_t>(0xa799c353be403233ULL);
 }
 
 template <>
@@ -671,7 +671,7 @@ inline std::vector<MissingKind> missing_kinds<arm_state_t>() {
 }
 template <>
 inline std::int64_t missing_kinds_hash<arm_state_t>() {
-  return static_cast<std::int64_t>(0x664e79175ac6ac3dULL);
+  return static_cast<std::int64_t>(0x71e3eae676919edeULL);
 }
 
 template <>
@@ -864,7 +864,7 @@ inline std::vector<MissingKind> missing_kinds<joystick_state_t>() {
 }
 template <>
 inline std::int64_t missing_kinds_hash<joystick_state_t>() {
-  return static_cast<std::int64_t>(0x46c951e50f60f29cULL);
+  return static_cast<std::int64_t>(0x79273b6d6e394fa1ULL);
 }
 
 // ---- the same, by LCM type name, as encoded events (for tests that only know a channel's type).

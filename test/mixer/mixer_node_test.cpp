@@ -74,9 +74,11 @@ class MixerTest : public ::testing::Test {
   }
   bool gate_met = false;
   std::int64_t go_id = 0;
-  void manual(TimeUs at, double x, double y, double n = 0, bool valid = true) {
+  void manual(TimeUs at, double x, double y, double n = 0, bool valid = true,
+              const std::string& station = "") {
     manual_demand_t m{};
     m.utime = at;
+    m.station = station;
     m.demand[0] = x;
     m.demand[1] = y;
     m.demand[5] = n;
@@ -150,6 +152,54 @@ TEST_F(MixerTest, NeutralWhileDisarmedThenFollowsTheStickAtOnce) {
   EXPECT_EQ(status.strategy, "direction_preserving");
   EXPECT_TRUE(status.axis_unactuated[2]);
   EXPECT_EQ(status.demanded[0], 1.0);
+}
+
+// Issue 30, scenario 3 in the mixer: armed for station A, the stick of station B (same key) is
+// refused and counted, never followed, and never a flip between the two; after a takeover by
+// B (a new session, controller B) it is A's stick that is refused, and B starts from neutral.
+TEST_F(MixerTest, OnlyTheStationInControlIsFollowed) {
+  arm_state_t a{};
+  a.utime = 100'000;
+  a.armed = true;
+  a.session = 1;
+  a.controller = "A";
+  ex->inject(channels::kArmState, a, 100'000);
+  manual(100'000, 0, 0, 0, true, "A");  // A's centred stick: the start condition
+  int flips = 0, b_followed = 0;
+  double last_sign = 0;
+  for (TimeUs t = 120'000; t < 1'120'000; t += 10'000) {
+    manual(t, 0.6, 0, 0, true, "A");           // A forward
+    manual(t + 5'000, -0.9, 0, 0, true, "B");  // B full astern, in between
+  }
+  ex->run_until(1'120'000);
+  for (const auto& sn : seen) {
+    if (sn.t <= 120'000 || neutral(sn.cmd)) continue;
+    const double sgn = sn.cmd.command[1] > 0 ? 1 : -1;
+    if (last_sign != 0 && sgn != last_sign) ++flips;
+    last_sign = sgn;
+    if (std::abs(sn.cmd.command[1] + 0.9) < 1e-9 || sgn < 0) ++b_followed;
+  }
+  EXPECT_EQ(flips, 0);
+  EXPECT_EQ(b_followed, 0);
+  EXPECT_GT(last_sign, 0) << "A's stick was followed";
+  EXPECT_GE(node->counter_value("rejected.manual_demand.station"), 95);
+  // B takes over: a new session naming B. A's stick is refused now; B must centre first.
+  a.utime = 1'130'000;
+  a.session = 2;
+  a.controller = "B";
+  ex->inject(channels::kArmState, a, 1'130'000);
+  const std::size_t from = seen.size();
+  for (TimeUs t = 1'140'000; t < 1'400'000; t += 10'000) {
+    manual(t, 0.6, 0, 0, true, "A");
+    manual(t + 5'000, -0.9, 0, 0, true, "B");  // held astern: not centred, so neutral
+  }
+  ex->run_until(1'400'000);
+  ASSERT_GT(seen.size(), from);
+  for (std::size_t i = from; i < seen.size(); ++i) EXPECT_TRUE(neutral(seen[i].cmd)) << i;
+  manual(1'405'000, 0, 0, 0, true, "B");
+  manual(1'410'000, -0.9, 0, 0, true, "B");
+  ex->run_until(1'410'000);
+  EXPECT_FALSE(neutral(seen.back().cmd)) << "B, centred first, is followed";
 }
 
 TEST_F(MixerTest, PublishesAtTheConfiguredRate) {
