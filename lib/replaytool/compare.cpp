@@ -261,6 +261,7 @@ ProcessReport replay_process(const ProcessEntry& entry, const std::string& confi
   if (!log.empty()) rep.origin = log.front().time;
   std::unique_ptr<Node> node =
       entry.make_with_args ? entry.make_with_args(config_path, opt.args) : entry.make(config_path);
+  if (entry.prime) entry.prime(*node, log);
   std::vector<Event> outputs;
   TimeUs cmp_from = INT64_MIN, cmp_to = INT64_MAX;
   if (opt.live) {

@@ -84,6 +84,9 @@ struct ProcessEntry {
   // live log, one input taken in another order than live changes every later output, so the
   // comparison is shown but not part of the verdict (lockstep logs, the golden ones, decide).
   bool integrating = false;
+  // When set, given the log before the replay: for what a process drew at its start and
+  // announced (tiller-esc's boot nonce, taken from its first recorded TILLER_ARM_STATE).
+  std::function<void(Node& node, const std::vector<Event>& log)> prime = {};
 };
 
 struct ReplayOptions {

@@ -44,7 +44,20 @@ const std::vector<ProcessEntry>& replayable_processes() {
       {"esc",
        "",
        {ch::kEscOutput, ch::kEscStatus, ch::kArmState},
-       [](const std::string& c) { return std::make_unique<EscNode>(c); }},
+       [](const std::string& c) { return std::make_unique<EscNode>(c); },
+       {},
+       /*integrating=*/false,
+       // The boot nonce it drew at start (random), as its first arm state announced it.
+       [](Node& n, const std::vector<Event>& log) {
+         for (const Event& e : log) {
+           arm_state_t a;
+           if (e.channel != ch::kArmState ||
+               a.decode(e.data.data(), 0, static_cast<int>(e.data.size())) < 0)
+             continue;
+           static_cast<EscNode&>(n).set_boot_nonce(a.boot_nonce);
+           return;
+         }
+       }},
       {"path-follower",
        "config/guidance/default.yaml",
        {ch::kVelocitySetpoint, ch::kPathProgress, ch::kStationTarget},

@@ -78,8 +78,11 @@ def fly():
     work = tempfile.mkdtemp(prefix="tiller-rov-modes-")
     log = os.path.join(work, "run.lcmlog")
     out_path = os.path.join(work, "launch.out")
+    # The launch file's key is made in (and taken from) $XDG_CONFIG_HOME/tiller/sim.key.
     env = dict(os.environ, TILLER_STICK_FIFO=os.path.join(work, "stick"),
-               PILOT_SCRIPT="config/pilot/rov_modes_live.yaml")
+               PILOT_SCRIPT="config/pilot/rov_modes_live.yaml",
+               XDG_CONFIG_HOME=os.path.join(work, "xdg"))
+    env.pop("TILLER_KEY_FILE", None)
     out = open(out_path, "w")
     launcher = sp.Popen([os.path.join(bindir, "tiller-launch"), "config/launch/sim_rov_demo.yaml",
                          "--log-file", log], cwd=src, env=env, stdout=out, stderr=sp.STDOUT)
@@ -104,7 +107,7 @@ def fly():
         while launcher.poll() is None and time.time() - start < 60:
             if re.search(r"step \d+/\d+: position hold", open(out_path).read()):
                 r = sp.run([os.path.join(bindir, "tiller-rov-control"), "--mode", "position_hold"],
-                           cwd=src, env=dict(os.environ, TILLER_KEY_FILE="keys/sim.key"),
+                           cwd=src, env=dict(env, TILLER_KEY_FILE=os.path.join(work, "xdg", "tiller", "sim.key")),
                            capture_output=True, text=True, timeout=10)
                 if r.returncode != 0:
                     fail(f"tiller-rov-control --mode position_hold: exit {r.returncode}: "
