@@ -6,6 +6,7 @@
 #include <nlohmann/json.hpp>
 
 #include <tiller/arm_request_t.hpp>
+#include <tiller/arm_state_t.hpp>
 #include <tiller/controller_mode_t.hpp>
 #include <tiller/heartbeat_t.hpp>
 #include <tiller/manual_demand_t.hpp>
@@ -255,6 +256,49 @@ TEST(CockpitNode, StateFramesCarryTheLatestValueOfChangedChannelsAndHealth) {
   o.encode(buf.data(), 0, static_cast<int>(buf.size()));
   r.node.deliver(channels::kOdometry, buf.data(), static_cast<int>(buf.size()), 3'300'000);
   EXPECT_EQ(r.node.counter_value("rejected.odometry.check"), 1);
+}
+
+// Issue 30: the vehicle's arm state, its reason and the station in control reach the page in
+// the next state frame (the cockpit's period, 50 ms), whatever its stamp (here 0.7 s behind the
+// cockpit's clock); the cockpit's arm requests carry its nonce, station and a takeover.
+TEST(CockpitNode, RefusalReasonAndControllerReachThePageWithTheNonceOnArming) {
+  CockpitParams p = params();
+  p.station = "cockpit@topside";
+  CollectBus bus;
+  CockpitNode node(p, kToken, &load_mission_text);
+  node.attach(&bus);
+  std::vector<json> frames;
+  node.set_sink([&](int, const std::string& f) { frames.push_back(json::parse(f)); });
+  arm_state_t a{};
+  a.utime = 1'000'000 - 700'000;
+  a.armed = true;
+  a.session = 3;
+  a.boot_nonce = 4242;
+  a.controller = "A";
+  a.reason =
+      "arm refused (asked by cockpit at station cockpit@topside): another station in "
+      "control: A";
+  std::vector<std::uint8_t> buf(static_cast<std::size_t>(a.getEncodedSize()));
+  a.encode(buf.data(), 0, static_cast<int>(buf.size()));
+  node.deliver(channels::kArmState, buf.data(), static_cast<int>(buf.size()), 1'000'000);
+  node.tick(1'050'000);
+  json st;
+  for (auto it = frames.rbegin(); it != frames.rend() && st.is_null(); ++it)
+    if ((*it)["type"] == "state") st = *it;
+  ASSERT_TRUE(st["msgs"].contains("TILLER_ARM_STATE")) << st.dump();
+  const json& m = st["msgs"]["TILLER_ARM_STATE"]["msg"];
+  EXPECT_EQ(m["armed"], true);
+  EXPECT_EQ(m["controller"], "A");
+  EXPECT_EQ(m["reason"], a.reason);
+  json cmd = {
+      {"type", "arm"}, {"arm", true}, {"confirm", true}, {"takeover", true}, {"token", kToken}};
+  node.command(1, cmd.dump(), 1'100'000);
+  const auto arms = bus.on<arm_request_t>(channels::kArmRequest);
+  ASSERT_EQ(arms.size(), 1u);
+  EXPECT_EQ(arms[0].boot_nonce, 4242);
+  EXPECT_EQ(arms[0].station, "cockpit@topside");
+  EXPECT_TRUE(arms[0].takeover);
+  node.attach(nullptr);
 }
 
 TEST(CockpitNode, MissionLoadStartAndErrorsWithLineAndKey) {
