@@ -106,7 +106,13 @@ void TeleopNode::on_odometry(const odometry_t& o, TimeUs now) {
 }
 
 void TeleopNode::on_arm_state(const arm_state_t& a, TimeUs now) {
-  if (!on_time(arm_fresh_, a.utime, now, "arm_state")) return;
+  // The vehicle's clock may be out of step with this station's either way (two computers): its
+  // arm state counts within kArmStateSkewUs of this clock, ahead or behind; what is older (a
+  // stopped process's queue) or further ahead is counted and dropped.
+  if (a.utime < now - kArmStateSkewUs || a.utime > now + kArmStateSkewUs) {
+    reject(counter("rejected.arm_state.skew"));  // made on first use
+    return;
+  }
   if (checks::check(a) != nullptr) {
     reject(counter("rejected.arm_state.invalid"));  // made on first use
     return;

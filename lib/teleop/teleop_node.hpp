@@ -52,6 +52,10 @@ double shape_axis(double x, double deadzone, double expo);
 // Normalises a raw js value: [-1, 1], or [0, 1] for a trigger axis.
 double normalise_axis(int raw, bool trigger);
 
+// How far a TILLER_ARM_STATE's stamp may be from this station's clock, either way, and still be
+// shown: beyond the signing window (1 s by default) that already bounds a replay.
+inline constexpr TimeUs kArmStateSkewUs = 2'000'000;
+
 class TeleopNode : public Node {
  public:
   enum class Input { device, replay };

@@ -648,6 +648,15 @@ TEST(VehicleReason, ShownAtOnceWithTheControllerWhateverTheSkew) {
   EXPECT_TRUE(r.node.arm_known());
   r.run_until(ms(1400));  // 0.4 s later, no new arm state: still known (fresh by arrival)
   EXPECT_TRUE(r.node.arm_known());
+  // The vehicle's clock 0.7 s ahead of this station's: still shown.
+  a.utime = ms(1400) + 700'000;
+  a.reason = "armed by teleop at station A";
+  buf.resize(static_cast<std::size_t>(a.getEncodedSize()));
+  a.encode(buf.data(), 0, static_cast<int>(buf.size()));
+  r.node.deliver(channels::kArmState, buf.data(), static_cast<int>(buf.size()), ms(1400));
+  EXPECT_EQ(r.node.vehicle_reason(), "armed by teleop at station A");
+  EXPECT_TRUE(r.node.armed());
+  EXPECT_EQ(r.node.counter_value("rejected.arm_state.skew"), 0);
   // Its arm requests carry that nonce and this station.
   r.state.buttons[static_cast<std::size_t>(p.buttons.arm)] = true;
   r.feed(ms(1410));
