@@ -15,6 +15,7 @@
 #include <tiller/arm_state_t.hpp>
 #include <tiller/controller_mode_t.hpp>
 #include <tiller/esc_output_t.hpp>
+#include <tiller/gnss_fix_t.hpp>
 #include <tiller/mission_command_t.hpp>
 #include <tiller/odometry_t.hpp>
 #include <tiller/path_progress_t.hpp>
@@ -47,6 +48,7 @@ enum : int {
   kEscOutput,
   kPidVelocity,
   kPidStation,
+  kGnss,
   kSlots
 };
 
@@ -71,7 +73,8 @@ const std::vector<std::string>& state_channels() {
                                              channels::kVehicleStatus,
                                              channels::kEscOutput,
                                              channels::kPidVelocity,
-                                             channels::kPidStation};
+                                             channels::kPidStation,
+                                             channels::kGnss};
   return c;
 }
 
@@ -126,6 +129,7 @@ CockpitNode::CockpitNode(CockpitParams p, std::string token, MissionLoader loade
       &CockpitNode::on_state<pid_terms_t, kPidVelocity>);
   add(std::make_unique<Slot<pid_terms_t>>(), kPidStation,
       &CockpitNode::on_state<pid_terms_t, kPidStation>);
+  add(std::make_unique<Slot<gnss_fix_t>>(), kGnss, &CockpitNode::on_state<gnss_fix_t, kGnss>);
   for (const auto& name : p_.processes) {
     Process pr;
     pr.name = name;

@@ -60,6 +60,8 @@ NavNode::NavNode(const NavParams& p)
   too_late_ = &counter("gnss.too_late");
   dr_entered_ = &counter("dead_reckoning.entered");
   invalid_out_ = &counter("odometry.position_invalid");
+  datum_restarts_ = &counter("gnss.datum_restarts");
+  heading_other_ignored_ = &counter("heading.other_ignored");
 
   State x = State::Zero();
   Covariance c = Covariance::Zero();
@@ -131,12 +133,13 @@ void NavNode::on_gnss(const gnss_fix_t& m, TimeUs now) {
     ++*too_late_;
     return;
   }
+  auto std_of = [&](double s) {
+    return s > 0 ? std::max(s, p_.gnss.min_std_m) : p_.gnss.default_std_m;
+  };
+  const double sn = std_of(m.position_std[0]), se = std_of(m.position_std[1]);
+  if (!have_datum_ && !hold_datum(m, std::max(sn, se), taken)) return;
   const double lag = align(taken, now);
   const bool has_altitude = m.fix_type >= gnss_fix_t::FIX_3D;
-  if (!have_datum_) {
-    datum_.Reset(m.latitude, m.longitude, has_altitude ? m.altitude : 0.0);
-    have_datum_ = true;
-  }
   double east = 0, north = 0, up = 0;
   datum_.Forward(m.latitude, m.longitude, has_altitude ? m.altitude : datum_.HeightOrigin(), east,
                  north, up);
@@ -145,10 +148,6 @@ void NavNode::on_gnss(const gnss_fix_t& m, TimeUs now) {
   // The fix is `lag` s older than the filter: move it on with the estimated velocity.
   const Eigen::Vector3d v_ned = Ekf::rotation(mo.roll, mo.pitch, x(kPsi)) * x.segment<3>(kU);
   const Eigen::Vector2d z(north + v_ned(0) * lag, east + v_ned(1) * lag);
-  auto std_of = [&](double s) {
-    return s > 0 ? std::max(s, p_.gnss.min_std_m) : p_.gnss.default_std_m;
-  };
-  const double sn = std_of(m.position_std[0]), se = std_of(m.position_std[1]);
   if (!position_init_) {
     ekf_.set_position_ne(z(0), z(1), std::max(sq(sn), sq(se)));
     position_init_ = true;
@@ -182,6 +181,40 @@ void NavNode::on_gnss(const gnss_fix_t& m, TimeUs now) {
   const UpdateResult r =
       ekf_.update_velocity_ne(zv, Eigen::Vector2d(vv, vv).asDiagonal(), mo, p_.gnss.gate_chi2);
   if (!r.accepted) reject(*gate_gnss_velocity_);
+}
+
+bool NavNode::hold_datum(const gnss_fix_t& m, double std_m, TimeUs taken) {
+  const bool has_altitude = m.fix_type >= gnss_fix_t::FIX_3D;
+  const double alt = has_altitude ? m.altitude : 0.0;
+  auto restart = [&] {
+    candidate_.Reset(m.latitude, m.longitude, alt);
+    holding_ = true;
+    hold_since_ = taken;
+    hold_n_ = hold_e_ = hold_u_ = 0;
+    held_ = 1;
+  };
+  if (!holding_) {
+    restart();
+  } else {
+    double e = 0, n = 0, u = 0;
+    candidate_.Forward(m.latitude, m.longitude, alt, e, n, u);
+    const double mn = hold_n_ / held_, me = hold_e_ / held_;
+    if (std::hypot(n - mn, e - me) > std::max(p_.datum_hold.consistent_m, 3 * std_m)) {
+      ++*datum_restarts_;  // inconsistent with what was held: hold again from this fix
+      restart();
+    } else {
+      hold_n_ += n;
+      hold_e_ += e;
+      hold_u_ += u;
+      ++held_;
+    }
+  }
+  if (to_seconds(taken - hold_since_) + 1e-9 < p_.datum_hold.hold_s) return false;
+  double lat = 0, lon = 0, h = 0;
+  candidate_.Reverse(hold_e_ / held_, hold_n_ / held_, hold_u_ / held_, lat, lon, h);
+  datum_.Reset(lat, lon, h);
+  have_datum_ = true;
+  return true;
 }
 
 void NavNode::on_imu(const imu_t& m, TimeUs now) {
@@ -225,6 +258,16 @@ void NavNode::on_heading(const heading_t& m, TimeUs now) {
   if (!on_time(heading_fresh_, m.utime, now, "heading")) return;
   if (checks::check(m) != nullptr) {
     reject(*bad_heading_);
+    return;
+  }
+  // A dual-antenna GNSS heading (true, no magnetic disturbance) is the heading source while it
+  // is fresh: another source's heading is then left out (heading.other_ignored).
+  const bool gnss = m.source == heading_t::SOURCE_GNSS;
+  if (gnss) {
+    last_gnss_heading_ = now;
+    have_gnss_heading_ = true;
+  } else if (have_gnss_heading_ && now - last_gnss_heading_ <= heading_fresh_.limit()) {
+    ++*heading_other_ignored_;
     return;
   }
   heading_fresh_.mark(now, m.utime, clock_offset());

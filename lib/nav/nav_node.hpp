@@ -2,24 +2,27 @@
 // in, TILLER_ODOMETRY (odometry_t, local NED about the datum, body FRD velocity, covariances,
 // validity bits) out at rate_hz. docs/navigation.md explains the filter (nav/ekf.hpp).
 //
-// GNSS fixes are converted to local NED about the datum (the first fix used, or a configured
-// one) with GeographicLib's LocalCartesian; a fix older than the filter's time is moved on to it
-// with the estimated velocity (at most gnss.max_latency_s). Roll, pitch and body rates come from
-// the IMU (its fused quaternion, else the accelerometer's tilt); heading from TILLER_HEADING
-// (a magnetic one plus heading.declination_deg); depth from TILLER_PRESSURE, or 0 for a surface
-// vehicle; with sway.enabled the sway constraint at each tick while the IMU is fresh and the
-// forward speed |u| >= sway.min_speed_mps (rejected.sway.gate counts the ones refused). The
-// first measurement of each part sets it; later ones pass the innovation gate or
-// are refused and counted (rejected.<input>.gate); a fix of an epoch already taken (the same
-// gnss_utime) is refused and counted (rejected.gnss.repeated). `gnss.reset_after` refused fixes in
-// a row reset the position to the fix (gnss.resets). Validity (odometry_t.valid): position while a
-// fix was used and its largest 1-sigma is within limits.position_std_m; DEAD_RECKONING when no fix
-// was used for gnss.timeout_s (the covariance grows); velocity within limits.velocity_std_mps;
-// attitude while the IMU is fresh and the heading within limits.heading_std_deg; depth while a
-// pressure sample is fresh (or a surface vehicle). Bad input (core/message_checks.hpp) is dropped
-// and counted before it changes anything (rejected.<input>.invalid); stale or future by its utime:
-// rejected.<input>.stale / .future. Time comes only from the executor: the filter runs on the times
-// it is told.
+// GNSS fixes are converted to local NED about the datum (datum: first_fix: the mean of fixes that
+// stayed consistent for datum_hold.hold_s, so a spurious first fix cannot set it, restarts
+// counted in gnss.datum_restarts; or a configured one: the config, tiller-nav --datum or a
+// mission's home, --datum-mission) with GeographicLib's LocalCartesian; a fix older than the
+// filter's time is moved on to it with the estimated velocity (at most gnss.max_latency_s). Roll,
+// pitch and body rates come from the IMU (its fused quaternion, else the accelerometer's tilt);
+// heading from TILLER_HEADING (a magnetic one plus heading.declination_deg; a dual-antenna GNSS
+// heading, source GNSS, is preferred while fresh: the others are then left out, counted in
+// heading.other_ignored); depth from TILLER_PRESSURE, or 0 for a surface vehicle; with sway.enabled
+// the sway constraint at each tick while the IMU is fresh and the forward speed |u| >=
+// sway.min_speed_mps (rejected.sway.gate counts the ones refused). The first measurement of each
+// part sets it; later ones pass the innovation gate or are refused and counted
+// (rejected.<input>.gate); a fix of an epoch already taken (the same gnss_utime) is refused and
+// counted (rejected.gnss.repeated). `gnss.reset_after` refused fixes in a row reset the position to
+// the fix (gnss.resets). Validity (odometry_t.valid): position while a fix was used and its largest
+// 1-sigma is within limits.position_std_m; DEAD_RECKONING when no fix was used for gnss.timeout_s
+// (the covariance grows); velocity within limits.velocity_std_mps; attitude while the IMU is fresh
+// and the heading within limits.heading_std_deg; depth while a pressure sample is fresh (or a
+// surface vehicle). Bad input (core/message_checks.hpp) is dropped and counted before it changes
+// anything (rejected.<input>.invalid); stale or future by its utime: rejected.<input>.stale /
+// .future. Time comes only from the executor: the filter runs on the times it is told.
 #pragma once
 
 #include <cstdint>
@@ -51,6 +54,9 @@ class NavNode : public Node {
   const Ekf& filter() const { return ekf_; }
   const odometry_t& last_odometry() const { return odom_; }
   bool has_datum() const { return have_datum_; }
+  // The datum (WGS84 deg, m above the ellipsoid), once set.
+  double datum_latitude() const { return datum_.LatitudeOrigin(); }
+  double datum_longitude() const { return datum_.LongitudeOrigin(); }
 
  protected:
   void on_tick(TimeUs now) override;
@@ -61,6 +67,9 @@ class NavNode : public Node {
   // A measurement at its own time `utime` received at `now`: the filter moves on to it and the
   // result is its lag behind the filter's time (s, >= 0).
   double align(TimeUs utime, TimeUs now);
+  // first_fix: holds fixes until they have been consistent for datum_hold.hold_s; true once the
+  // datum is set (from this fix on, fixes are fused).
+  bool hold_datum(const gnss_fix_t& m, double std_m, TimeUs taken);
   std::int32_t validity(TimeUs now) const;
   void fill(TimeUs now);
   void report(TimeUs now, std::int32_t valid);
@@ -72,6 +81,15 @@ class NavNode : public Node {
   double rate_var_[3] = {0, 0, 0};   // p q r (rad/s)^2
   GeographicLib::LocalCartesian datum_;
   bool have_datum_ = false;
+  GeographicLib::LocalCartesian candidate_;  // the hold's first fix, its mean kept about it
+  bool holding_ = false;
+  TimeUs hold_since_ = 0;
+  double hold_n_ = 0, hold_e_ = 0, hold_u_ = 0;  // sums of the held fixes, m about candidate_
+  int held_ = 0;
+  std::int64_t* datum_restarts_;
+  TimeUs last_gnss_heading_ = 0;  // receive time of the last dual-antenna GNSS heading
+  bool have_gnss_heading_ = false;
+  std::int64_t* heading_other_ignored_;
   TimeUs t_ = 0;  // the filter's time
   bool started_ = false;
   bool position_init_ = false, heading_init_ = false, depth_init_ = false;

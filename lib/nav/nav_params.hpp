@@ -20,6 +20,14 @@ struct NavParams {
   // Datum of local NED: the first fix used, or a fixed one (WGS84 deg, m above the ellipsoid).
   bool fixed_datum = false;
   double datum_latitude_deg = 0, datum_longitude_deg = 0, datum_altitude_m = 0;
+  // first_fix: the datum is set only once fixes have stayed consistent for hold_s: each within
+  // max(consistent_m, 3 x its own largest 1-sigma) of the held fixes' mean; a fix outside starts
+  // the hold over from it (a spurious first fix cannot set the datum). Until then no fix is
+  // fused: the position is invalid. The datum is the held fixes' mean. 0 s: the first fix.
+  struct DatumHold {
+    double hold_s = 5.0;
+    double consistent_m = 5.0;
+  } datum_hold;
 
   struct Gnss {
     bool enabled = true;         // false: no position source (position never valid)

@@ -52,6 +52,9 @@ GnssParams load_gnss_params(const config::Value& root) {
   p.jump_margin_m = root.number_or("jump_margin_m", p.jump_margin_m, {0, 1e4});
   p.time_jump_s = root.number_or("time_jump_s", p.time_jump_s, {0.01, 3600});
   p.accept_after = static_cast<int>(root.integer_or("accept_after", p.accept_after, 1, 1000));
+  p.publish_heading = root.boolean_or("publish_heading", p.publish_heading);
+  p.heading_channel = root.string_or("heading_channel", p.heading_channel);
+  p.heading_std = root.number_or("heading_std_deg", 0.3, {0.01, 30.0}) * kPi / 180;
   root.check_all_used();
   return p;
 }
@@ -73,6 +76,12 @@ GnssNode::GnssNode(const GnssParams& p) : Node("gnss", kUsPerSecond / 10), p_(p)
   jump_accepted_ = &counter("fix.jump_accepted");
   time_jump_accepted_ = &counter("fix.time_jump_accepted");
   msg_.satellites = -1;
+  headings_ = &counter("headings");
+  bad_heading_ = &counter("rejected.heading.range");
+  if (p.publish_heading) advertise<heading_t>(p.heading_channel);
+  heading_.reference = heading_t::REFERENCE_TRUE;
+  heading_.source = heading_t::SOURCE_GNSS;
+  heading_.variance = p.heading_std * p.heading_std;
   set_health(heartbeat_t::STATE_FAULT, link_problem_);
 }
 
@@ -87,7 +96,25 @@ void GnssNode::say_once(int kind, const std::string& what) {
   std::fprintf(stderr, "tiller-gnss: %s (counted in the heartbeat; said once)\n", what.c_str());
 }
 
+void GnssNode::on_attitude(const gps_data_t& d, TimeUs now) {
+  const double deg = d.attitude.heading;
+  if (!std::isfinite(deg) || deg < 0 || deg >= 360) {
+    reject(*bad_heading_);
+    say_once(7, "dropped a dual-antenna heading outside [0, 360) deg (rejected.heading.range)");
+    return;
+  }
+  heading_.utime = now;
+  heading_.heading = wrap_pi(deg * kPi / 180);
+  if (heading_.device != d.dev.path) heading_.device = d.dev.path;
+  publish(p_.heading_channel, heading_);
+  ++*headings_;
+}
+
 void GnssNode::on_gps(const gps_data_t& d, TimeUs now) {
+  if ((d.set & ATTITUDE_SET) && p_.publish_heading) {
+    on_attitude(d, now);
+    return;  // an ATT report carries nothing else (gps_data_t's union)
+  }
   if (d.set & GST_SET) {
     gst_time_ = seconds(d.gst.utctime);
     gst_std_[0] = d.gst.lat_err_deviation;

@@ -24,6 +24,11 @@
 // dropped (rejected.fix.time_jump). accept_after consecutive such fixes consistent with each
 // other are believed from then on (fix.jump_accepted / fix.time_jump_accepted): a receiver that
 // was wrong before is not refused for ever. Each kind is said once on stderr.
+// Dual-antenna heading (a u-blox moving-base pair, a Hemisphere or Septentrio compass): gpsd turns
+// the receiver's NMEA HDT or THS (true heading) into an ATT report; its heading goes out as a
+// heading_t on heading_channel (TILLER_HEADING), reference TRUE, source GNSS, variance
+// heading_std^2, which tiller-nav prefers to a magnetic heading while it is fresh. A heading
+// outside [0, 360) degrees or not finite is dropped (rejected.heading.range).
 // Health: OK while fixes arrive; DEGRADED when gpsd says there is no fix or nothing came for
 // `stale_after`; FAULT when the connection to gpsd is down (said by the glue, set_link()).
 #pragma once
@@ -32,6 +37,7 @@
 #include <string>
 
 #include <tiller/gnss_fix_t.hpp>
+#include <tiller/heading_t.hpp>
 
 #include "core/time.hpp"
 #include "runtime/node.hpp"
@@ -55,6 +61,12 @@ struct GnssParams {
   double jump_margin_m = 25;    // receiver noise and multipath allowed on top of it
   double time_jump_s = 2.0;     // receiver time step - host time step beyond this: a time jump
   int accept_after = 5;         // consecutive consistent fixes at a new place / time: believed
+  // Dual-antenna heading from gpsd's ATT reports (HDT/THS): published on heading_channel when
+  // true ("" or false: not published).
+  bool publish_heading = true;
+  std::string heading_channel = "TILLER_HEADING";
+  double heading_std =
+      0.3 * 3.14159265358979323846 / 180;  // rad, 1-sigma (0.3 deg: a 1 m baseline)
 };
 GnssParams load_gnss_params(const config::Value& root);
 GnssParams load_gnss_file(const std::string& path);
@@ -89,8 +101,11 @@ class GnssNode : public Node {
   void update_health(TimeUs now);
   std::string summary() const;  // the heartbeat's status while fixes arrive
   void say_once(int kind, const std::string& what);
+  void on_attitude(const gps_data_t& d, TimeUs now);
   GnssParams p_;
   gnss_fix_t msg_{};
+  heading_t heading_{};
+  std::int64_t *headings_, *bad_heading_;
   std::string link_problem_ = "not connected to gpsd yet";
   TimeUs last_fix_ = INT64_MIN;
   bool last_had_fix_ = false;

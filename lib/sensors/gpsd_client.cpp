@@ -6,7 +6,9 @@
 
 #include <cerrno>
 #include <cstdio>
+#include <cstdlib>
 #include <cstring>
+#include <string>
 
 namespace tiller::sensors {
 
@@ -56,16 +58,47 @@ std::string GpsdClient::connect(TimeUs now) {
   return "";
 }
 
+namespace {
+// The "device" value of a gpsd JSON report ("" when absent).
+std::string device_of(const char* raw) {
+  const char* d = std::strstr(raw, "\"device\":\"");
+  if (d == nullptr) return "";
+  d += 10;
+  const char* e = std::strchr(d, '"');
+  return e ? std::string(d, static_cast<std::size_t>(e - d)) : "";
+}
+}  // namespace
+
+// gpsd 3.22 (Debian bookworm's) writes an ATT report with a time as
+//   {"class":"ATT","device":"/dev/pts/1",,"time":"2026-12-01T12:00:01.200Z""heading":12.500,...}
+// (a doubled comma, a missing one): libgps cannot parse it and leaves ATTITUDE_SET unset, so
+// every dual-antenna heading but the first (which has no time yet) was lost. Seen here with
+// gpsfake and a $GPHDT stream. When the raw report is such an ATT, its heading is read from the
+// text, the one field used.
+void GpsdClient::att_workaround(gps_data_t& d, const char* raw) {
+  if ((d.set & ATTITUDE_SET) || std::strstr(raw, "\"class\":\"ATT\"") == nullptr) return;
+  const char* h = std::strstr(raw, "\"heading\":");
+  if (h == nullptr) return;
+  char* end = nullptr;
+  const double deg = std::strtod(h + 10, &end);
+  if (end == h + 10) return;
+  d.attitude.heading = deg;
+  d.set |= ATTITUDE_SET;
+  std::snprintf(d.dev.path, sizeof d.dev.path, "%s", device_of(raw).c_str());
+}
+
 bool GpsdClient::pump(TimeUs now) {
   if (!open_) return false;
   while (::gps_waiting(data_.get(), 0)) {
     // libgps ORs each report's bits into `set` and keeps the last report's: cleared, a SKY or GST
     // report after a TPV does not look like that TPV again (MODE_SET).
     data_->set = 0;
-    if (::gps_read(data_.get(), nullptr, 0) < 0) {
+    if (::gps_read(data_.get(), raw_, sizeof raw_ - 1) < 0) {
       drop("lost the connection to gpsd at " + p_.host + ":" + p_.port, now);
       return false;
     }
+    raw_[sizeof raw_ - 1] = '\0';
+    att_workaround(*data_, raw_);
     node_.on_gps(*data_, now);
   }
   return true;

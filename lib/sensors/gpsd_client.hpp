@@ -27,6 +27,8 @@ class GpsdClient {
 
  private:
   void drop(const std::string& why, TimeUs now);
+  static void att_workaround(struct gps_data_t& d, const char* raw);
+  char raw_[4096] = {};  // the last report's JSON text
   void on_timer(TimeUs now);
   GnssParams p_;
   GnssNode& node_;

@@ -8,6 +8,7 @@
 #include <tiller/arm_request_t.hpp>
 #include <tiller/arm_state_t.hpp>
 #include <tiller/controller_mode_t.hpp>
+#include <tiller/gnss_fix_t.hpp>
 #include <tiller/heartbeat_t.hpp>
 #include <tiller/manual_demand_t.hpp>
 #include <tiller/mission_command_t.hpp>
@@ -299,6 +300,30 @@ TEST(CockpitNode, RefusalReasonAndControllerReachThePageWithTheNonceOnArming) {
   EXPECT_EQ(arms[0].station, "cockpit@topside");
   EXPECT_TRUE(arms[0].takeover);
   node.attach(nullptr);
+}
+
+// Issue 31: the GNSS fix (its type, RTK included, satellites, HDOP, 1-sigma) reaches the page.
+TEST(CockpitNode, TheGnssFixReachesThePage) {
+  Rig r;
+  gnss_fix_t g{};
+  g.utime = 10'000;
+  g.fix_type = gnss_fix_t::FIX_RTK_FIXED;
+  g.satellites = 17;
+  g.latitude = 59.437;
+  g.longitude = 10.6612;
+  g.hdop = 0.7;
+  g.position_std[0] = g.position_std[1] = 0.02;
+  g.accuracy_source = gnss_fix_t::ACCURACY_RECEIVER;
+  g.device = "/dev/ttyACM0";
+  std::vector<std::uint8_t> buf(static_cast<std::size_t>(g.getEncodedSize()));
+  g.encode(buf.data(), 0, static_cast<int>(buf.size()));
+  r.node.deliver(channels::kGnss, buf.data(), static_cast<int>(buf.size()), 10'000);
+  r.node.tick(50'000);
+  const json s = r.last_state();
+  ASSERT_TRUE(s["msgs"].contains("TILLER_GNSS")) << s.dump();
+  EXPECT_EQ(s["msgs"]["TILLER_GNSS"]["msg"]["fix_type"], gnss_fix_t::FIX_RTK_FIXED);
+  EXPECT_EQ(s["msgs"]["TILLER_GNSS"]["msg"]["satellites"], 17);
+  EXPECT_EQ(s["msgs"]["TILLER_GNSS"]["msg"]["hdop"], 0.7);
 }
 
 TEST(CockpitNode, MissionLoadStartAndErrorsWithLineAndKey) {

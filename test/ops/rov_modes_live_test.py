@@ -35,6 +35,7 @@ import csv
 import io
 import math
 import os
+import shutil
 import re
 import signal
 import subprocess as sp
@@ -330,8 +331,6 @@ print(f"wall time {time.time() - start:.1f} s", flush=True)
 if failures:
     print(f"{len(failures)} failure(s); log kept: {log}", flush=True)
     sys.exit(1)
-for f in os.listdir(work) if work else []:
-    os.unlink(os.path.join(work, f))
 if work:
-    os.rmdir(work)
+    shutil.rmtree(work)  # the log, the launcher's output and the key's XDG directory
 print("PASS")

@@ -4,11 +4,13 @@
 // epochs per case (6 s); gpsd needs the first few to find the device, so checks start at epoch 5.
 #include <gtest/gtest.h>
 
+#include <gps.h>
 #include <GeographicLib/Geodesic.hpp>
 
 #include <cmath>
 #include <cstdio>
 
+#include "nav/nav_node.hpp"
 #include "nmea_feed.hpp"
 
 namespace tiller::sensors {
@@ -197,6 +199,118 @@ TEST(GnssHostile, TimeJumpsAreDroppedAndCounted) {
   EXPECT_GE(first_day, 25 + p.accept_after - 1);
   EXPECT_LE(first_day, 25 + p.accept_after + 1);
   EXPECT_EQ(node.counter_value("fix.time_jump_accepted"), 1);
+}
+
+// Case 5. Before: tiller-nav's datum was the first fix it used, so a receiver's spurious first
+// fixes (here 20 m east for the first 8 epochs, 1.6 s, as multipath at a quay gives) set the
+// local frame 20 m off. After: the datum waits for fixes consistent for datum_hold.hold_s (2 s
+// here): the spurious ones restart the hold, and the datum is the mean of the good ones.
+TEST(GnssHostile, ASpuriousFirstFixCannotSetTheDatum) {
+  std::vector<Epoch> e = test::track(40, kPeriod);
+  const double spurious_deg = 20.0 / (111'320.0 * std::cos(e[0].fix.latitude_deg * M_PI / 180));
+  for (int k = 0; k < 8; ++k) e[k].fix.longitude_deg += spurious_deg;
+  GnssParams p = params("29486");
+  GnssNode gnss(p);
+  Capture out;
+  ASSERT_EQ(test::play(e, p.port, kCycle, gnss, out), "");
+  nav::NavParams np;
+  np.datum_hold.hold_s = 2.0;
+  np.datum_hold.consistent_m = 5.0;
+  nav::NavNode nav(np);
+  int first = -1, datum_epoch = -1, from_datum = 0;
+  for (const auto& f : out.with_fix()) {
+    if (first < 0) first = epoch_of(f);
+    nav.on_gnss(f, f.utime);
+    if (datum_epoch < 0 && nav.has_datum()) datum_epoch = epoch_of(f);
+    from_datum += nav.has_datum();
+  }
+  ASSERT_GE(first, 0);
+  ASSERT_LT(first, 8) << "the test needs spurious fixes to reach the estimator";
+  ASSERT_TRUE(nav.has_datum());
+  // The good fixes held: from epoch 8 to the one 2 s later; the datum is their mean.
+  EXPECT_EQ(datum_epoch, 8 + 10);
+  double lat = 0, lon = 0;
+  for (int k = 8; k <= datum_epoch; ++k) {
+    lat += e[k].fix.latitude_deg;
+    lon += e[k].fix.longitude_deg;
+  }
+  lat /= datum_epoch - 8 + 1;
+  lon /= datum_epoch - 8 + 1;
+  double to_good = 0, to_spurious = 0;
+  const auto& g = GeographicLib::Geodesic::WGS84();
+  g.Inverse(nav.datum_latitude(), nav.datum_longitude(), lat, lon, to_good);
+  g.Inverse(nav.datum_latitude(), nav.datum_longitude(), e[first].fix.latitude_deg,
+            e[first].fix.longitude_deg, to_spurious);
+  std::printf(
+      "datum set at epoch %d: %.3f m from the good fixes' mean, %.1f m from the first "
+      "(spurious) fix; gnss.datum_restarts %lld\n",
+      datum_epoch, to_good, to_spurious,
+      static_cast<long long>(nav.counter_value("gnss.datum_restarts")));
+  EXPECT_LT(to_good, 0.05);
+  EXPECT_GT(to_spurious, 15.0);
+  EXPECT_EQ(nav.counter_value("gnss.datum_restarts"), 1);
+  EXPECT_EQ(nav.counter_value("gnss.fixes_used"), from_datum) << "fused from the datum's on";
+}
+
+// Dual-antenna heading (issue 31, "what real boats carry"): a receiver's NMEA HDT through the real
+// gpsd (its ATT report) becomes a true GNSS heading on TILLER_HEADING; an impossible one (400
+// deg) is dropped and counted. tiller-nav then takes it in preference to the IMU's magnetic
+// heading (which here is 30 deg off, as a compass near a steel hull can be). gpsd 3.22 writes
+// every ATT after the first with a malformed time field; GpsdClient reads its heading anyway.
+TEST(GnssHostile, ADualAntennaHeadingIsTheHeadingSource) {
+  std::vector<Epoch> e = test::track(30, kPeriod);
+  for (int k = 0; k < 30; ++k) {
+    char b[16];
+    std::snprintf(b, sizeof b, "%.2f", 10.0 + 0.5 * k);
+    e[k].hdt = b;
+  }
+  e[15].hdt = "400.00";
+  GnssParams p = params("29487");
+  GnssNode gnss(p);
+  Capture out;
+  ASSERT_EQ(test::play(e, p.port, kCycle, gnss, out), "");
+  ASSERT_GE(out.headings.size(), 20u);
+  for (const auto& h : out.headings) {
+    EXPECT_EQ(h.reference, heading_t::REFERENCE_TRUE);
+    EXPECT_EQ(h.source, heading_t::SOURCE_GNSS);
+    EXPECT_NEAR(h.variance, std::pow(0.3 * M_PI / 180, 2), 1e-12);
+    const double k = (h.heading * 180 / M_PI - 10.0) / 0.5;  // which epoch's heading it is
+    EXPECT_NEAR(k, std::round(k), 1e-6) << h.heading;
+    EXPECT_NE(std::lround(k), 15);
+  }
+  // gpsd itself drops the 400 deg HDT; a report that still carried one (another gpsd, a UBX
+  // path) is dropped here and counted.
+  gps_data_t bad{};
+  bad.set = ATTITUDE_SET;
+  bad.attitude.heading = 400.0;
+  gnss.on_gps(bad, out.headings.back().utime + 1);
+  bad.attitude.heading = std::nan("");
+  gnss.on_gps(bad, out.headings.back().utime + 2);
+  EXPECT_EQ(gnss.counter_value("rejected.heading.range"), 2);
+  // The estimator: GNSS headings and, in between, magnetic ones 30 deg off.
+  nav::NavParams np;
+  np.datum_hold.hold_s = 0;
+  nav::NavNode nav(np);
+  const heading_t& last = out.headings.back();
+  for (const auto& h : out.headings) {
+    nav.on_heading(h, h.utime);
+    heading_t mag = h;
+    mag.utime = h.utime + 50'000;
+    mag.heading = h.heading + 30 * M_PI / 180;
+    mag.reference = heading_t::REFERENCE_MAGNETIC;
+    mag.source = heading_t::SOURCE_AHRS;
+    mag.variance = 0;
+    nav.on_heading(mag, mag.utime);
+  }
+  const double psi = nav.filter().x()(nav::kPsi);
+  std::printf(
+      "%zu GNSS headings; estimator heading %.2f deg, last GNSS %.2f deg; "
+      "heading.other_ignored %lld\n",
+      out.headings.size(), psi * 180 / M_PI, last.heading * 180 / M_PI,
+      static_cast<long long>(nav.counter_value("heading.other_ignored")));
+  EXPECT_NEAR(psi, last.heading, 2 * M_PI / 180);
+  EXPECT_EQ(nav.counter_value("heading.other_ignored"),
+            static_cast<std::int64_t>(out.headings.size()));
 }
 
 }  // namespace

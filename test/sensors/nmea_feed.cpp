@@ -98,6 +98,12 @@ std::string text(const std::vector<Epoch>& epochs) {
         if (c == p.type) p.s[p.s.find('*') + 1] ^= 0x01;  // one bit of the checksum off
       all += p.s;
     }
+    if (!e.hdt.empty()) {
+      const std::string body = "GPHDT," + e.hdt + ",T";
+      char cs[8];
+      std::snprintf(cs, sizeof cs, "*%02X\r\n", sim::nmea::checksum(body));
+      all += "$" + body + cs;
+    }
   }
   return all;
 }
@@ -106,6 +112,9 @@ void Capture::publish(std::string_view ch, const std::uint8_t* d, int n) {
   if (ch == "TILLER_GNSS") {
     gnss_fix_t m;
     if (m.decode(d, 0, n) == n) fixes.push_back(m);
+  } else if (ch == "TILLER_HEADING") {
+    heading_t h;
+    if (h.decode(d, 0, n) == n) headings.push_back(h);
   } else if (ch == "TILLER_HEARTBEAT_GNSS") {
     hb.decode(d, 0, n);
   }

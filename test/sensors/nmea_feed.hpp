@@ -10,6 +10,7 @@
 #include <vector>
 
 #include <tiller/gnss_fix_t.hpp>
+#include <tiller/heading_t.hpp>
 #include <tiller/heartbeat_t.hpp>
 
 #include "runtime/node.hpp"
@@ -28,6 +29,8 @@ struct Epoch {
   bool gst = true;            // false: this epoch's GST is not sent
   // Sentences sent with a bad checksum, by type ("GGA", "GSA", "GST", "RMC").
   std::vector<std::string> corrupt;
+  // When set: a dual-antenna heading after RMC, "$GPHDT,<deg>,T" (or the text as given).
+  std::string hdt;
 };
 
 // `n` epochs `period_s` apart from 12:00:00, moving north at 2 m/s from 59.437 N 10.6612 E
@@ -37,8 +40,9 @@ std::vector<Epoch> track(int n, double period_s);
 std::string text(const std::vector<Epoch>& epochs);
 
 struct Capture : Bus {
-  std::vector<gnss_fix_t> fixes;  // every TILLER_GNSS message
-  heartbeat_t hb;                 // the last heartbeat
+  std::vector<gnss_fix_t> fixes;    // every TILLER_GNSS message
+  std::vector<heading_t> headings;  // every TILLER_HEADING message
+  heartbeat_t hb;                   // the last heartbeat
   void publish(std::string_view ch, const std::uint8_t* d, int n) override;
   // The fixes with a position and a receiver time.
   std::vector<gnss_fix_t> with_fix() const;

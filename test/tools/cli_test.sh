@@ -40,4 +40,15 @@ for p in "$bin"/tiller-*; do
   echo "ok: $name"
 done
 [ $n -gt 0 ] || { echo "FAIL: no tiller-* programs in $bin"; exit 1; }
+# tiller-nav's datum options: a bad --datum names the flag and the form; a mission without a
+# home is refused by --datum-mission, naming the file (both before any LCM is opened).
+src=$(cd "$(dirname "$0")/../.." && pwd)
+for d in "59.4" "95,10" "59.4,x" "59.4,10.6,1,2"; do
+  out=$(cd "$src" && timeout 10 "$bin/tiller-nav" --datum "$d" 2>&1 </dev/null); rc=$?
+  [ $rc -eq 2 ] && echo "$out" | grep -q -- "--datum: expected LAT,LON\[,ALT\]" ||
+    { echo "FAIL: tiller-nav --datum '$d': exit $rc: $out"; fail=1; }
+done
+out=$(cd "$src" && timeout 10 "$bin/tiller-nav" --datum-mission config/missions/default.yaml 2>&1 </dev/null); rc=$?
+[ $rc -eq 2 ] && echo "$out" | grep -q "default.yaml: the mission has no home position" ||
+  { echo "FAIL: tiller-nav --datum-mission without a home: exit $rc: $out"; fail=1; }
 exit $fail

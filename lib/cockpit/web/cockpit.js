@@ -102,6 +102,11 @@ function render() {
   pill('armed', arm ? (arm.armed ? 'ARMED' : 'disarmed') : 'arm ?', arm ? (arm.armed ? 'bad' : 'ok') : '');
   $('armreason').textContent = arm ? arm.reason : '-';
   $('controller').textContent = arm && arm.armed ? (arm.controller || '(no station named)') : '-';
+  const g = msg('TILLER_GNSS');
+  const fixes = ['no fix', '2D', '3D', 'DGPS', 'RTK float', 'RTK fixed', 'dead reckoning'];
+  $('gnss').textContent = g ? fixes[g.fix_type] + ', ' + (g.satellites >= 0 ? g.satellites : '?') +
+    ' satellites, HDOP ' + (g.hdop > 0 ? fmt(g.hdop, 1) : '?') + ', 1-sigma ' +
+    (g.position_std[0] > 0 ? fmt(Math.max(g.position_std[0], g.position_std[1]), 2) + ' m' : 'unknown') : '-';
   const tc = msg('TILLER_THRUSTER_COMMAND');
   const gates = ['DISARMED', 'WAIT_NEUTRAL', 'ACTIVE', 'INPUT_LOST', 'TEST'];
   pill('gate', tc ? 'gate ' + gates[tc.gate] : 'gate ?', tc ? (tc.gate === 2 || tc.gate === 4 ? 'warn' : '') : '');
