@@ -133,8 +133,10 @@ int single(const runtool::RunSpec& s) {
   if (o.estimated) {
     std::printf(
         "odometry            dead reckoning %.1f s, invalid %.1f s (after the first valid); "
-        "%zu disarm requests\n",
-        o.dead_reckoning_s, o.odometry_invalid_s, o.disarm_requests);
+        "%zu disarm requests; largest position step %.2f m; largest thruster command step "
+        "%.3f in the 10 s after dead reckoning\n",
+        o.dead_reckoning_s, o.odometry_invalid_s, o.disarm_requests, o.max_position_step_m,
+        o.recovery_command_step);
   }
   if (!s.log_file.empty()) {
     const std::string m = runtool::replay_manifest(s, f);

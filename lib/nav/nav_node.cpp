@@ -61,6 +61,7 @@ NavNode::NavNode(const NavParams& p)
   dr_entered_ = &counter("dead_reckoning.entered");
   invalid_out_ = &counter("odometry.position_invalid");
   datum_restarts_ = &counter("gnss.datum_restarts");
+  blended_ = &counter("gnss.blended_corrections");
   heading_other_ignored_ = &counter("heading.other_ignored");
 
   State x = State::Zero();
@@ -148,6 +149,8 @@ void NavNode::on_gnss(const gnss_fix_t& m, TimeUs now) {
   // The fix is `lag` s older than the filter: move it on with the estimated velocity.
   const Eigen::Vector3d v_ned = Ekf::rotation(mo.roll, mo.pitch, x(kPsi)) * x.segment<3>(kU);
   const Eigen::Vector2d z(north + v_ned(0) * lag, east + v_ned(1) * lag);
+  const double n0 = x(kN), e0 = x(kE);  // before this fix: the published one is continuous
+  const bool first = !position_init_;   // the first fix sets the position: nothing to blend
   if (!position_init_) {
     ekf_.set_position_ne(z(0), z(1), std::max(sq(sn), sq(se)));
     position_init_ = true;
@@ -167,11 +170,19 @@ void NavNode::on_gnss(const gnss_fix_t& m, TimeUs now) {
         gated_in_a_row_ = 0;
         last_fix_ = now;
         ++*resets_;
+        blend(n0, e0, std::max(sn, se));
       }
       return;
     }
   }
-  if (!p_.gnss.use_velocity || !m.velocity_valid || !heading_init_) return;
+  if (p_.gnss.use_velocity && m.velocity_valid && heading_init_) fuse_velocity(m, lag);
+  // The position's move by this fix, the velocity update's included (the two are correlated).
+  if (!first) blend(n0, e0, std::max(sn, se));
+}
+
+void NavNode::fuse_velocity(const gnss_fix_t& m, double lag) {
+  const Motion& mo = motion_;
+  const State& x = ekf_.x();
   // The velocity over ground `lag` s ago, turned on by the heading change since (a body-frame
   // velocity carries the turn).
   const double turned = (mo.r - x(kBiasR)) * lag;
@@ -181,6 +192,20 @@ void NavNode::on_gnss(const gnss_fix_t& m, TimeUs now) {
   const UpdateResult r =
       ekf_.update_velocity_ne(zv, Eigen::Vector2d(vv, vv).asDiagonal(), mo, p_.gnss.gate_chi2);
   if (!r.accepted) reject(*gate_gnss_velocity_);
+}
+
+void NavNode::blend(double n0, double e0, double std_m) {
+  if (p_.recovery.rate_mps <= 0) return;
+  // This fix moved the filter from (n0, e0): up to std_m of that reaches the published position
+  // at once, as any fix's correction does; the rest joins the offset that shrinks at rate_mps.
+  const double dn = n0 - ekf_.x()(kN), de = e0 - ekf_.x()(kE);
+  const double d = std::hypot(dn, de);
+  if (d <= std_m) return;
+  const double keep = (d - std_m) / d;
+  blend_n_ += dn * keep;
+  blend_e_ += de * keep;
+  blend_t_ = t_;
+  ++*blended_;
 }
 
 bool NavNode::hold_datum(const gnss_fix_t& m, double std_m, TimeUs taken) {
@@ -340,6 +365,16 @@ void NavNode::fill(TimeUs now) {
   const Covariance& c = ekf_.P();
   odom_.utime = now;
   for (int i = 0; i < 3; ++i) odom_.position[i] = x(kN + i);
+  // What is left of a large correction (recovery.rate_mps): shrinking, and in the variance.
+  if (blend_n_ != 0 || blend_e_ != 0) {
+    const double b = std::hypot(blend_n_, blend_e_);
+    const double left = std::max(0.0, b - p_.recovery.rate_mps * to_seconds(now - blend_t_));
+    blend_t_ = now;
+    blend_n_ *= left / b;
+    blend_e_ *= left / b;
+  }
+  odom_.position[0] += blend_n_;
+  odom_.position[1] += blend_e_;
   odom_.orientation[0] = motion_.roll;
   odom_.orientation[1] = motion_.pitch;
   odom_.orientation[2] = wrap_pi(x(kPsi));
@@ -353,6 +388,8 @@ void NavNode::fill(TimeUs now) {
   for (int i = 0; i < 6; ++i)
     for (int j = 0; j < 6; ++j)
       pc[6 * i + j] = (pose[i] >= 0 && pose[j] >= 0) ? c(pose[i], pose[j]) : 0.0;
+  pc[0] += sq(blend_n_);
+  pc[7] += sq(blend_e_);
   pc[6 * 3 + 3] = attitude_var_[0];
   pc[6 * 4 + 4] = attitude_var_[1];
   double* vc = odom_.velocity_covariance.data();

@@ -15,7 +15,9 @@
 // sway.min_speed_mps (rejected.sway.gate counts the ones refused). The first measurement of each
 // part sets it; later ones pass the innovation gate or are refused and counted
 // (rejected.<input>.gate); a fix of an epoch already taken (the same gnss_utime) is refused and
-// counted (rejected.gnss.repeated). `gnss.reset_after` refused fixes in a row reset the position to
+// counted (rejected.gnss.repeated). A correction beyond the fix's own 1-sigma (the first fix after
+// an outage, a reset) reaches the published position over time (recovery.rate_mps; counted in
+// gnss.blended_corrections). `gnss.reset_after` refused fixes in a row reset the position to
 // the fix (gnss.resets). Validity (odometry_t.valid): position while a fix was used and its largest
 // 1-sigma is within limits.position_std_m; DEAD_RECKONING when no fix was used for gnss.timeout_s
 // (the covariance grows); velocity within limits.velocity_std_mps; attitude while the IMU is fresh
@@ -87,6 +89,13 @@ class NavNode : public Node {
   double hold_n_ = 0, hold_e_ = 0, hold_u_ = 0;  // sums of the held fixes, m about candidate_
   int held_ = 0;
   std::int64_t* datum_restarts_;
+  // The published position is the filter's plus this offset (m, north and east): what is left of
+  // a correction larger than the fix's 1-sigma, shrinking at recovery.rate_mps.
+  double blend_n_ = 0, blend_e_ = 0;
+  TimeUs blend_t_ = 0;
+  std::int64_t* blended_;
+  void blend(double n0, double e0, double std_m);       // after a fused fix moved (n0, e0)
+  void fuse_velocity(const gnss_fix_t& m, double lag);  // speed and course over ground
   TimeUs last_gnss_heading_ = 0;  // receive time of the last dual-antenna GNSS heading
   bool have_gnss_heading_ = false;
   std::int64_t* heading_other_ignored_;

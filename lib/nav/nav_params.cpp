@@ -43,6 +43,9 @@ NavParams load_nav_params(const Value& root) {
   } else {
     datum.fail("first_fix or a map {latitude_deg, longitude_deg, altitude_m}");
   }
+  section(root, "recovery", [&](const Value& r) {
+    p.recovery.rate_mps = r.number_or("rate_mps", p.recovery.rate_mps, {0, 100});
+  });
   section(root, "datum_hold", [&](const Value& h) {
     p.datum_hold.hold_s = h.number_or("hold_s", p.datum_hold.hold_s, {0, 600});
     p.datum_hold.consistent_m = h.number_or("consistent_m", p.datum_hold.consistent_m, {0.1, 1000});

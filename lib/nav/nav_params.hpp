@@ -28,6 +28,14 @@ struct NavParams {
     double hold_s = 5.0;
     double consistent_m = 5.0;
   } datum_hold;
+  // Back to the receiver smoothly: a fix that moves the filter's position by more than the fix's
+  // own largest 1-sigma (the first fix after a GNSS outage, a reset) moves the published position
+  // by that 1-sigma at once; the rest is an offset that shrinks at rate_mps (its square added to
+  // the published position variance), so no consumer sees a jump larger than the receiver's
+  // error or a setpoint step. rate_mps 0: the old jump.
+  struct Recovery {
+    double rate_mps = 0.5;
+  } recovery;
 
   struct Gnss {
     bool enabled = true;         // false: no position source (position never valid)

@@ -189,6 +189,11 @@ RunOutcome run(const RunSpec& spec) {
                                    int{odometry_t::VALID_ATTITUDE};
   bool was_valid = false;
   TimeUs last_odom = -1;
+  double last_pos[2] = {0, 0};
+  bool had_position = false;
+  bool was_dr = false;
+  TimeUs recovered_at = -1;  // DEAD_RECKONING cleared (-1: not yet)
+  std::vector<double> last_cmd;
   TimeUs invalid_since = -1;  // the first invalid odometry after a valid one (-1: valid)
   // The controllers' odometry_timeout_s (0.5 s) and one mixer period (20 ms): from then on the
   // thrust must be neutral while the estimate stays invalid.
@@ -213,8 +218,27 @@ RunOutcome run(const RunSpec& spec) {
       for (const double c : tc.command)
         out.invalid_thrust_max = std::max(out.invalid_thrust_max, std::fabs(c));
     }
+    if (recovered_at >= 0 && t - recovered_at <= 10'000'000 && ch == channels::kThrusterCommand &&
+        tc.decode(d, 0, n) == n) {
+      if (last_cmd.size() == tc.command.size())
+        for (std::size_t i = 0; i < last_cmd.size(); ++i)
+          out.recovery_command_step =
+              std::max(out.recovery_command_step, std::fabs(tc.command[i] - last_cmd[i]));
+      last_cmd = tc.command;
+    }
     if (out.estimated && ch == channels::kOdometry && od.decode(d, 0, n) == n) {
       const double dt = last_odom >= 0 ? to_seconds(t - last_odom) : 0.0;
+      const bool has_position = od.valid & odometry_t::VALID_POSITION;
+      if (last_odom >= 0 && has_position && had_position)  // both with a valid position
+        out.max_position_step_m =
+            std::max(out.max_position_step_m,
+                     std::hypot(od.position[0] - last_pos[0], od.position[1] - last_pos[1]));
+      had_position = has_position;
+      last_pos[0] = od.position[0];
+      last_pos[1] = od.position[1];
+      const bool dr = od.valid & odometry_t::DEAD_RECKONING;
+      if (was_dr && !dr) recovered_at = t;
+      was_dr = dr;
       last_odom = t;
       const bool valid = (od.valid & kNeeded) == kNeeded;
       if (od.valid & odometry_t::DEAD_RECKONING) out.dead_reckoning_s += dt;

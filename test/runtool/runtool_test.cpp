@@ -190,6 +190,29 @@ TEST(RunTool, AnOutagePastTheEstimatorsLimitGivesNeutralAndTheMissionResumes) {
   EXPECT_GE(went_invalid, 4);  // the case this test is about happens (measured: 7 of 8 seeds)
 }
 
+// Issue 31, case 6 (the return): back from a 20 s outage, the first fixes moved tiller-nav's
+// published position by up to 12.7 m in one step (seeds 0-7: 5.6, 6.8, 5.2, 8.7, 10.7, 5.3, 1.9,
+// 12.7 m with recovery.rate_mps 0, the old jump). With the correction beyond the fix's 1-sigma
+// (2.12 m per axis here) released at 0.5 m/s, no step is larger than that 1-sigma plus the
+// motion of one 20 ms tick (measured 1.86-2.17 m), and every seed still completes.
+TEST(RunTool, BackFromAnOutageTheEstimateReturnsWithoutAJump) {
+  double worst_before = 0;
+  for (int seed = 0; seed < 8; ++seed) {
+    SCOPED_TRACE("seed " + std::to_string(seed));
+    RunSpec s = default_spec();
+    s.sim_args = {"--odometry", "estimated", "--gnss-outage",
+                  "20:20",      "--seed",    std::to_string(seed)};
+    s.settings = {parse_setting("nav.sway.enabled=false")};
+    const auto after = run(s);
+    EXPECT_LE(after.max_position_step_m, 2.12 + 0.06);  // the receiver's 1-sigma + one tick
+    EXPECT_TRUE(after.completed);
+    EXPECT_LT(after.scores.path_scores.final_position_error, 1.5);
+    s.settings.push_back(parse_setting("nav.recovery.rate_mps=0"));
+    worst_before = std::max(worst_before, run(s).max_position_step_m);
+  }
+  EXPECT_GT(worst_before, 10.0);  // the defect this is about (12.65 m)
+}
+
 TEST(RunTool, TheMissionStartIsWhereTheBoatStarts) {
   const std::string m = tmp("start.yaml");
   std::ofstream(m) << "name: start\nstart: {north: 5, east: -3, heading_deg: 90}\n"
