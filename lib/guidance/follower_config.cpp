@@ -96,6 +96,7 @@ FollowerNodeParams load_follower_node_params(const config::Value& root) {
   n.follower = load_follower_params(root.at("follower"));
   n.rate_hz = root.number("rate_hz", {0.1, 1000});
   n.odometry_timeout_s = root.number("odometry_timeout_s", {0.001, 60});
+  n.outage_hold_course_s = root.number_or("outage_hold_course_s", n.outage_hold_course_s, {0, 600});
   return n;
 }
 

@@ -27,6 +27,11 @@ struct FollowerNodeParams {
   FollowerParams follower;
   double rate_hz = 10;              // setpoint / progress rate
   double odometry_timeout_s = 0.5;  // older odometry counts as absent: setpoint inactive
+  // A GNSS outage (odometry_t.DEAD_RECKONING): for this long from its start the setpoint is the
+  // one from before it (course and speed held, not steered by a drifting position); then the
+  // path is followed on the dead-reckoned estimate again, until tiller-failsafe's GNSS rule
+  // (lost_after_s) holds or stops the vehicle (docs/safety.md). 0: follow the estimate at once.
+  double outage_hold_course_s = 5.0;
 };
 
 FollowerNodeParams load_follower_node_params(const config::Value& root);

@@ -19,6 +19,9 @@ const std::string kStale = "odometry stale: setpoint inactive";
 const std::string kWaiting = "path waiting for odometry";
 const std::string kComplete = "path complete";
 const std::string kFollowing = "following";
+const std::string kHoldingCourse =
+    "GNSS outage (dead reckoning): holding the course and speed from before it";
+const std::string kFollowingDr = "GNSS outage (dead reckoning): following the estimate";
 const std::string kPaused = "paused: holding position (RESUME continues)";
 
 PathFollowerNode::PathFollowerNode(const FollowerNodeParams& p)
@@ -140,6 +143,15 @@ void PathFollowerNode::on_odometry(const odometry_t& m, TimeUs now) {
     ++*invalid_odometry_;
     return;
   }
+  const bool dr = m.valid & odometry_t::DEAD_RECKONING;
+  if (dr && !dead_reckoning_) {
+    dr_since_ = now;
+    held_ = out_;  // the last setpoint before the outage
+    if (!outages_) outages_ = &counter("outages");
+    ++*outages_;
+  }
+  if (!dr) dr_since_ = -1;
+  dead_reckoning_ = dr;
   pos_ = Vec2(m.position[0], m.position[1]);
   heading_ = wrap_pi(m.orientation[2]);
   odom_time_ = m.utime;
@@ -166,6 +178,11 @@ void PathFollowerNode::on_speed(const path_speed_t& m, TimeUs) {
   speeds_ = m;
 }
 
+bool PathFollowerNode::holding_course(TimeUs now) const {
+  return dead_reckoning_ && dr_since_ >= 0 && held_.active && !held_.complete &&
+         now - dr_since_ < from_seconds(p_.outage_hold_course_s);
+}
+
 void PathFollowerNode::on_tick(TimeUs now) {
   const bool fresh = odom_fresh_.fresh(now);
   if (odom_fresh_.stale_events() > seen_stale_) {
@@ -184,8 +201,12 @@ void PathFollowerNode::on_tick(TimeUs now) {
     if (speeds_.path_id == path_id_ && seg < speeds_.n_segments && speeds_.speed[seg] > 0)
       v = std::min(v, speeds_.speed[seg]);
     follower_.set_max_speed(v);
-    out_ = follower_.update(pos_, heading_, dt);
-    last_segment_ = out_.segment;
+    if (holding_course(now)) {
+      out_ = held_;  // the course and speed from before the outage; progress not advanced
+    } else {
+      out_ = follower_.update(pos_, heading_, dt);
+      last_segment_ = out_.segment;
+    }
   }
 
   velocity_setpoint_t sp{};
@@ -226,6 +247,8 @@ void PathFollowerNode::on_tick(TimeUs now) {
     set_health(heartbeat_t::STATE_DEGRADED, kStale);
   } else if (!follower_.has_path()) {
     set_health(heartbeat_t::STATE_OK, pending_ ? kWaiting : kIdle);
+  } else if (dead_reckoning_ && !paused_) {
+    set_health(heartbeat_t::STATE_DEGRADED, holding_course(now) ? kHoldingCourse : kFollowingDr);
   } else {
     set_health(heartbeat_t::STATE_OK, paused_ ? kPaused : out_.complete ? kComplete : kFollowing);
   }

@@ -15,6 +15,10 @@
 //                             inactive when there is no path or the odometry is stale;
 //   TILLER_PATH_PROGRESS      segment, cross-track / along-track m, distance to goal m, complete;
 //   TILLER_STATION_TARGET     the last point (and its heading) once the path is complete.
+// A GNSS outage (the odometry's DEAD_RECKONING): for outage_hold_course_s from its start the
+// setpoint is the one from before it, course and speed held rather than steered by a drifting
+// estimate (counted in outages; the heartbeat says so, DEGRADED); then the path is followed on
+// the estimate until tiller-failsafe's GNSS rule holds or stops the vehicle.
 // Bad input: a path with NaN, out-of-range or too many points is dropped whole and counted
 // (rejected.path.invalid); odometry that fails its contract (core/message_checks.hpp) is dropped
 // and counted: non-finite values under rejected.odometry.nan, angles out of range or a
@@ -49,6 +53,8 @@ class PathFollowerNode : public Node {
 
   const PathFollower& follower() const { return follower_; }
   const FollowerOutput& last_output() const { return out_; }
+  // In a GNSS outage's first outage_hold_course_s: the setpoint is the one from before it.
+  bool holding_course(TimeUs now) const;
   bool paused() const { return paused_; }
 
  private:
@@ -63,6 +69,10 @@ class PathFollowerNode : public Node {
   Vec2 pos_{0, 0};
   double heading_ = 0;
   TimeUs odom_time_ = 0;
+  bool dead_reckoning_ = false;  // the latest odometry says DEAD_RECKONING
+  TimeUs dr_since_ = -1;         // when this outage began (-1: none)
+  FollowerOutput held_;          // the setpoint held through the outage's first seconds
+  std::int64_t* outages_ = nullptr;
   TimeUs last_update_odom_time_ = -1;
   bool is_translation_ = false;
   std::int64_t path_id_ = -1;

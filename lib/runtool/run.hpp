@@ -94,8 +94,9 @@ struct RunOutcome {
   // 0 when the controllers give neutral on an invalid estimate.
   double invalid_thrust_max = 0;
   // Back from dead reckoning (estimated state): the largest step of TILLER_ODOMETRY's position
-  // between two messages that both have a valid position (m, north-east), and the largest change of one thruster command between
-  // two TILLER_THRUSTER_COMMANDs in the 10 s after DEAD_RECKONING cleared (normalised).
+  // between two messages that both have a valid position (m, north-east), and the largest change of
+  // one thruster command between two TILLER_THRUSTER_COMMANDs in the 10 s after DEAD_RECKONING
+  // cleared (normalised).
   double max_position_step_m = 0;
   double recovery_command_step = 0;
 };

@@ -356,3 +356,41 @@ TEST(PathFollowerNode, OdometryWithoutAValidPositionIsStale) {
 
 }  // namespace
 }  // namespace tiller::guidance
+
+namespace tiller::guidance {
+namespace {
+
+// Issue 31, case 6 (the policy's first step): in a GNSS outage (DEAD_RECKONING) the setpoint is
+// the one from before it for outage_hold_course_s (5 s), however the dead-reckoned position
+// drifts; then the path is followed on the estimate again.
+TEST(PathFollowerNode, AnOutageHoldsTheCourseAndSpeedThenFollowsTheEstimate) {
+  PathFollowerNode node(params());
+  LockstepExecutor ex(0);
+  ex.add(node);
+  Seen s;
+  watch(ex, s);
+  ex.inject(channels::kPath, path(3, {{0, 0}, {100, 0}}), 10'000);
+  // On the line, heading north: the setpoint is 1.5 m/s north.
+  for (TimeUs t = 0; t <= 1'000'000; t += 100'000)
+    ex.inject(channels::kOdometry, odom(t, 1.5e-6 * t, 0, 0), t);
+  ex.run_until(1'000'000);
+  ASSERT_TRUE(s.sp.active);
+  const double vn = s.sp.velocity[0], ve = s.sp.velocity[1];
+  EXPECT_NEAR(vn, 1.5, 1e-9);
+  // The outage: the estimate drifts 5 m east over 5 s (a follower on it would steer west).
+  for (TimeUs t = 1'100'000; t <= 9'000'000; t += 100'000) {
+    odometry_t o = odom(t, 1.5e-6 * t, 1e-6 * (t - 1'000'000), 0);
+    o.valid |= odometry_t::DEAD_RECKONING;
+    ex.inject(channels::kOdometry, o, t);
+  }
+  ex.run_until(5'900'000);  // 4.8 s into it
+  EXPECT_DOUBLE_EQ(s.sp.velocity[0], vn);
+  EXPECT_DOUBLE_EQ(s.sp.velocity[1], ve);
+  EXPECT_TRUE(node.holding_course(5'900'000));
+  EXPECT_EQ(node.counter_value("outages"), 1);
+  ex.run_until(6'500'000);  // 5.4 s into it: following the estimate again
+  EXPECT_FALSE(node.holding_course(6'500'000));
+}
+
+}  // namespace
+}  // namespace tiller::guidance
