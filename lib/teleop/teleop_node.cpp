@@ -188,7 +188,7 @@ void TeleopNode::apply_state(const joystick_state_t& s, TimeUs now) {
     return;
   }
 
-  if (connected_ && s.late_inits != late_inits_) device_reinit(s, now);
+  if (connected_ && s.late_inits != late_inits_) device_reinit(now);
   late_inits_ = s.late_inits;
   const std::size_t nb = static_cast<std::size_t>(s.n_buttons);
   raw_axes_.assign(s.axes.begin(), s.axes.begin() + s.n_axes);
@@ -223,7 +223,7 @@ void TeleopNode::apply_state(const joystick_state_t& s, TimeUs now) {
   if (changed && p_.publish_on_change) publish_outputs(now);
 }
 
-void TeleopNode::device_reinit(const joystick_state_t& s, TimeUs now) {
+void TeleopNode::device_reinit(TimeUs now) {
   // The device re-sent its start-up state after ordinary input: whatever it says now is not a
   // deliberate move. As on a reconnection: neutral at once, held buttons ignored until
   // released, and a centred stick before anything counts; and ask the vehicle to disarm.
@@ -233,7 +233,6 @@ void TeleopNode::device_reinit(const joystick_state_t& s, TimeUs now) {
   compute_demand();
   publish_outputs(now);
   send_arm_request(false, false, now);
-  (void)s;
   update_health();
   publish_heartbeat_now(now);
 }

@@ -96,7 +96,7 @@ class TeleopNode : public Node {
   void update_buttons(TimeUs now);
   void on_press(int button, TimeUs now);
   bool compute_demand();  // from raw_*; returns true if the output changed
-  void device_reinit(const joystick_state_t& s, TimeUs now);
+  void device_reinit(TimeUs now);
   void send_arm_request(bool arm, bool takeover, TimeUs now);
   void publish_outputs(TimeUs now);
   void publish_mode(TimeUs now);

@@ -326,12 +326,6 @@ TEST(PathFollowerNode, MalformedInputOfEachTypeIsDroppedCountedAndChangesNothing
   }
 }
 
-}  // namespace
-}  // namespace tiller::guidance
-
-namespace tiller::guidance {
-namespace {
-
 // Odometry flagged without a valid position (tiller-nav past its limit, or no position
 // source) is not followed on: the setpoint goes inactive once the last valid one is stale.
 TEST(PathFollowerNode, OdometryWithoutAValidPositionIsStale) {
@@ -353,12 +347,6 @@ TEST(PathFollowerNode, OdometryWithoutAValidPositionIsStale) {
   EXPECT_EQ(node.counter_value("odometry.invalid"), 18);  // 1.02 .. 1.87 s
   EXPECT_EQ(node.rejected(), 0);
 }
-
-}  // namespace
-}  // namespace tiller::guidance
-
-namespace tiller::guidance {
-namespace {
 
 // Issue 31, case 6 (the policy's first step): in a GNSS outage (DEAD_RECKONING) the setpoint is
 // the one from before it for outage_hold_course_s (5 s), however the dead-reckoned position

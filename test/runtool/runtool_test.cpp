@@ -170,14 +170,21 @@ TEST(RunTool, EstimatedStateCarriesOnThroughA20sGnssOutageAndRecovers) {
 // boat stayed stopped: 5 of these 8 seeds did not complete. Flown without the sway constraint
 // (usv_sim.yaml's sway.enabled false): with it the velocity stays within the limit through the
 // outage (odometry invalid 0 s on every one of these seeds), so the case would not happen.
+// The default mission on estimated state, a 20 s GNSS outage from 20 s, without the sway
+// constraint (see below).
+RunSpec outage_spec(int seed) {
+  RunSpec s = default_spec();
+  s.sim_args = {"--odometry", "estimated", "--gnss-outage",
+                "20:20",      "--seed",    std::to_string(seed)};
+  s.settings = {parse_setting("nav.sway.enabled=false")};
+  return s;
+}
+
 TEST(RunTool, AnOutagePastTheEstimatorsLimitGivesNeutralAndTheMissionResumes) {
   int went_invalid = 0;
   for (int seed = 0; seed < 8; ++seed) {
     SCOPED_TRACE("seed " + std::to_string(seed));
-    RunSpec s = default_spec();
-    s.sim_args = {"--odometry", "estimated", "--gnss-outage",
-                  "20:20",      "--seed",    std::to_string(seed)};
-    s.settings = {parse_setting("nav.sway.enabled=false")};
+    RunSpec s = outage_spec(seed);
     const auto o = run(s);
     if (o.odometry_invalid_s > 0.5) ++went_invalid;
     EXPECT_LE(o.odometry_invalid_s, 8.0);  // s: only late in the 20 s outage (measured <= 4.4)
@@ -199,10 +206,7 @@ TEST(RunTool, BackFromAnOutageTheEstimateReturnsWithoutAJump) {
   double worst_before = 0;
   for (int seed = 0; seed < 8; ++seed) {
     SCOPED_TRACE("seed " + std::to_string(seed));
-    RunSpec s = default_spec();
-    s.sim_args = {"--odometry", "estimated", "--gnss-outage",
-                  "20:20",      "--seed",    std::to_string(seed)};
-    s.settings = {parse_setting("nav.sway.enabled=false")};
+    RunSpec s = outage_spec(seed);
     const auto after = run(s);
     EXPECT_LE(after.max_position_step_m, 2.12 + 0.06);  // the receiver's 1-sigma + one tick
     EXPECT_TRUE(after.completed);
