@@ -79,6 +79,11 @@ struct ProcessSpec {
   std::string group;
   std::vector<std::string> depends_on;
   double start_delay_s = 0.0;
+  // Non-empty: once due, the start also waits until this file has data (the launcher sets it
+  // on the process after lcm-logger to the log file: nothing runs before the log records it),
+  // at most start_after_file_max_s; then it starts anyway, with a warning.
+  std::string start_after_file;
+  double start_after_file_max_s = 10.0;
   Restart restart = Restart::kNever;
   double backoff_s = 0.5;
   double backoff_max_s = 10.0;

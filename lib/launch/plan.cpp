@@ -70,8 +70,10 @@ Plan make_plan(LaunchFile lf, const LaunchChoices& c, const std::string& stamp,
 
   if (plan.log) plan.procs.push_back(logger_process(lf.logger, lf.lcm_url, log_file));
   for (std::size_t i : chosen) plan.procs.push_back(lf.processes[i]);
-  if (plan.log && plan.procs.size() > 1)  // the logger subscribes first
+  if (plan.log && plan.procs.size() > 1) {  // the logger subscribes first, and has written
     plan.procs[1].start_delay_s = std::max(plan.procs[1].start_delay_s, 0.3);
+    plan.procs[1].start_after_file = log_file + log_suffix(lf.logger);
+  }
   plan.lf = std::move(lf);
   return plan;
 }

@@ -6,6 +6,8 @@
 #include <cstring>
 #include <sstream>
 
+#include <sys/stat.h>
+
 namespace tiller::launch {
 
 namespace {
@@ -62,8 +64,17 @@ Supervisor::Supervisor(std::vector<ProcessSpec> procs, std::string ends_with, do
   }
 }
 
+bool ProcessHost::file_has_data(const std::string& path, TimeUs since) {
+  struct stat st {};
+  if (::stat(path.c_str(), &st) != 0 || st.st_size == 0) return false;
+  const TimeUs mtime = static_cast<TimeUs>(st.st_mtim.tv_sec) * kUsPerSecond +
+                       static_cast<TimeUs>(st.st_mtim.tv_nsec / 1000);
+  return mtime >= since;
+}
+
 void Supervisor::start(TimeUs now) {
   started_ = true;
+  started_at_ = now;
   next_start_ = 0;
   start_due_ = procs_.empty() ? now : now + from_seconds(procs_[0].spec.start_delay_s);
   poll(now);
@@ -92,7 +103,20 @@ void Supervisor::spawn(std::size_t i, TimeUs now) {
 void Supervisor::poll(TimeUs now) {
   if (!started_ || finished_) return;
   if (!stopping_) {
+    last_poll_ = now;
+    waiting_file_ = false;
     while (next_start_ < procs_.size() && now >= start_due_) {
+      const ProcessSpec& next = procs_[next_start_].spec;
+      if (!next.start_after_file.empty() &&
+          !host_.file_has_data(next.start_after_file, started_at_)) {
+        if (now < start_due_ + from_seconds(next.start_after_file_max_s)) {
+          waiting_file_ = true;
+          break;
+        }
+        say("warning: " + next.start_after_file + " is still empty after " +
+            std::to_string(static_cast<int>(next.start_after_file_max_s)) + " s: starting " +
+            next.name + " anyway (what comes before the logger's first write is not in the log)");
+      }
       say("starting " + procs_[next_start_].spec.name);
       spawn(next_start_, now);
       ++next_start_;
@@ -279,7 +303,8 @@ TimeUs Supervisor::next_deadline() const {
   TimeUs t = INT64_MAX;
   if (!started_ || finished_) return t;
   if (!stopping_) {
-    if (next_start_ < procs_.size()) t = std::min(t, start_due_);
+    if (next_start_ < procs_.size())
+      t = std::min(t, waiting_file_ ? std::max(start_due_, last_poll_ + 20'000) : start_due_);
     for (const auto& p : procs_) {
       if (p.state == State::kBackoff) t = std::min(t, p.restart_at);
       if (p.state == State::kRunning && p.heard && p.spec.liveness_s > 0)

@@ -45,6 +45,10 @@ class ProcessHost {
   virtual int spawn(const ProcessSpec& p, std::string& error) = 0;
   // Sends `sig` to the process and its process group.
   virtual void signal(int pid, int sig) = 0;
+  // True when `path` exists, is not empty and was written at or after `since` (wall clock, us):
+  // ProcessSpec::start_after_file (an old log of the same name, e.g. rotate's FILE.0 before
+  // lcm-logger renames it, does not count).
+  virtual bool file_has_data(const std::string& path, TimeUs since);
 };
 
 // kSilent: being stopped because its heartbeat went silent ("silent" in the table).
@@ -108,6 +112,9 @@ class Supervisor {
   const std::string& stop_reason() const { return reason_; }
   // Earliest time poll() has something to do (INT64_MAX: nothing scheduled).
   TimeUs next_deadline() const;
+  // True while the next start waits for its start_after_file (the launcher then publishes its
+  // heartbeat often, so that lcm-logger has something to write).
+  bool waiting_for_file() const { return waiting_file_; }
   const std::vector<ProcStatus>& processes() const { return procs_; }
   // A table: name, group, state, pid, up_s, hb_s (since its last heartbeat), restarts, last exit.
   std::string status_table(TimeUs now) const;
@@ -132,6 +139,9 @@ class Supervisor {
   Note note_;
   std::size_t next_start_ = 0;
   TimeUs start_due_ = 0;
+  bool waiting_file_ = false;
+  TimeUs last_poll_ = 0;
+  TimeUs started_at_ = 0;
   bool started_ = false;
   bool stopping_ = false;
   bool finished_ = false;

@@ -49,6 +49,9 @@ TEST(LaunchPlan, LoggerFirstThenChosenProcessesAndTheHeldBackOnes) {
   EXPECT_EQ(p.procs[0].args, want);
   EXPECT_EQ(p.procs[1].name, "sim");
   EXPECT_DOUBLE_EQ(p.procs[1].start_delay_s, 0.3);  // the logger subscribes first
+  // ... and nothing starts before it has written: a late logger loses no operator START.
+  EXPECT_EQ(p.procs[1].start_after_file, "/tmp/logs/2026-01-31-120000.lcmlog");
+  EXPECT_TRUE(p.procs[2].start_after_file.empty());
   EXPECT_EQ(p.procs[2].name, "esc");
   EXPECT_EQ(p.log_file, "/tmp/logs/2026-01-31-120000.lcmlog");
   ASSERT_EQ(p.held_back.size(), 1u);
@@ -90,6 +93,7 @@ TEST(LaunchPlan, RotateFixesTheLogNameAndSplitAddsIncrement) {
   Plan p = make_plan(parse(text), {}, "stamp", "/");
   EXPECT_EQ(p.log_file, "/tmp/logs/run.lcmlog");
   EXPECT_EQ(log_suffix(p.lf.logger), ".0");
+  EXPECT_EQ(p.procs[1].start_after_file, "/tmp/logs/run.lcmlog.0");  // the file it writes
   EXPECT_EQ(p.procs[0].args[2], "--split-mb=5.000000");
   EXPECT_EQ(p.procs[0].args[3], "--rotate=3");
   text = kRun;

@@ -203,6 +203,11 @@ struct FakeHost : ProcessHost {
     return next_pid++;
   }
   void signal(int pid, int sig) override { signals.emplace_back(pid, sig); }
+  std::map<std::string, TimeUs> written;  // path -> when it got data (fake files)
+  bool file_has_data(const std::string& path, TimeUs since) override {
+    auto it = written.find(path);
+    return it != written.end() && it->second >= since;
+  }
 };
 
 ProcessSpec proc(const std::string& name, Restart r = Restart::kNever, int max_restarts = 5) {
@@ -330,6 +335,46 @@ TEST(Supervisor, StartDelaysAndStopBeforeEverythingStarted) {
   s.on_exit(pid_of(s, "a"), ExitInfo{0, SIGTERM}, 600'000);
   EXPECT_TRUE(s.finished());
   EXPECT_EQ(h.spawned.size(), 1u);
+}
+
+// The process after lcm-logger waits for the log file to have data written in this run (an old
+// file of the same name does not count), and past start_after_file_max_s starts anyway, saying
+// so. Before this, a logger slower than the 0.3 s delay lost the operator's START of the main
+// job, and its replay failed (CI, stop 41).
+TEST(Supervisor, TheFirstProcessWaitsForTheLoggersFirstWrite) {
+  FakeHost h;
+  auto b = proc("b");
+  b.start_delay_s = 0.3;
+  b.start_after_file = "/logs/run.lcmlog";
+  b.start_after_file_max_s = 10.0;
+  h.written["/logs/run.lcmlog"] = 5'000;  // a previous run's file, before this start
+  std::vector<std::string> said;
+  Supervisor s({proc("logger"), b, proc("c")}, "", 1.0, h,
+               [&](const std::string& m) { said.push_back(m); });
+  s.start(10'000);
+  s.poll(400'000);
+  EXPECT_EQ(h.spawned, (std::vector<std::string>{"logger"}));
+  EXPECT_TRUE(s.waiting_for_file());
+  EXPECT_EQ(s.next_deadline(), 420'000);  // polls the file every 20 ms
+  s.poll(2'000'000);
+  EXPECT_EQ(h.spawned.size(), 1u);
+  h.written["/logs/run.lcmlog"] = 2'100'000;  // the logger's first flush
+  s.poll(2'120'000);
+  EXPECT_EQ(h.spawned, (std::vector<std::string>{"logger", "b", "c"}));
+  EXPECT_FALSE(s.waiting_for_file());
+
+  FakeHost h2;  // a logger that never writes: b starts 10 s after it was due, with a warning
+  said.clear();
+  Supervisor s2({proc("logger"), b}, "", 1.0, h2, [&](const std::string& m) { said.push_back(m); });
+  s2.start(0);
+  s2.poll(10'299'000);
+  EXPECT_EQ(h2.spawned.size(), 1u);
+  s2.poll(10'300'000);
+  EXPECT_EQ(h2.spawned, (std::vector<std::string>{"logger", "b"}));
+  bool warned = false;
+  for (const auto& m : said)
+    warned |= m.find("warning: /logs/run.lcmlog is still empty after 10 s: starting b") == 0;
+  EXPECT_TRUE(warned);
 }
 
 TEST(Supervisor, ProgramThatCannotStartFollowsItsPolicy) {

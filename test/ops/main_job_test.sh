@@ -56,7 +56,7 @@ set -- $vs
 manifest="${log%.lcmlog}.replay.yaml"
 [ -s "$manifest" ] || { echo "FAIL: no replay manifest $manifest"; fail=1; }
 rout=$(cd /tmp && "$build/bin/tiller-replay" "$log" 2>&1); rrc=$?
-echo "$rout" | grep -E "^[a-z]|summary|DIFFERENT"
+echo "$rout" | grep -E "^[a-z]|summary|DIFFERENT|first difference"
 [ $rrc -eq 0 ] || { echo "FAIL: replaying the unchanged main-job log gave exit $rrc, expected 0 (PASS)"; fail=1; }
 for p in esc mixer path-follower velocity-pid station-keep sim; do
   echo "$rout" | grep -q "^$p (config /" || { echo "FAIL: $p was not replayed"; fail=1; }
