@@ -134,8 +134,16 @@ void NavNode::on_gnss(const gnss_fix_t& m, TimeUs now) {
     ++*too_late_;
     return;
   }
+  // The fix's own 1-sigma (floored), else default_std_m: an unknown accuracy is poor, not
+  // perfect. An RTK fix without the receiver's statistics is at most its RTK state's 1-sigma.
+  const double rtk = m.accuracy_source == gnss_fix_t::ACCURACY_RECEIVER ? 0.0
+                     : m.fix_type == gnss_fix_t::FIX_RTK_FIXED          ? p_.gnss.rtk_fixed_std_m
+                     : m.fix_type == gnss_fix_t::FIX_RTK_FLOAT          ? p_.gnss.rtk_float_std_m
+                                                                        : 0.0;
   auto std_of = [&](double s) {
-    return s > 0 ? std::max(s, p_.gnss.min_std_m) : p_.gnss.default_std_m;
+    double v = s > 0 ? s : p_.gnss.default_std_m;
+    if (rtk > 0) v = std::min(v, rtk);
+    return std::max(v, s > 0 || rtk > 0 ? p_.gnss.min_std_m : 0.0);
   };
   const double sn = std_of(m.position_std[0]), se = std_of(m.position_std[1]);
   if (!have_datum_ && !hold_datum(m, std::max(sn, se), taken)) return;

@@ -57,6 +57,8 @@ NavParams load_nav_params(const Value& root) {
                                                                    : gnss_fix_t::FIX_3D;
     q.default_std_m = g.number_or("default_std_m", q.default_std_m, {0.01, 1e3});
     q.min_std_m = g.number_or("min_std_m", q.min_std_m, {0.001, 1e3});
+    q.rtk_fixed_std_m = g.number_or("rtk_fixed_std_m", q.rtk_fixed_std_m, {0.001, 1e3});
+    q.rtk_float_std_m = g.number_or("rtk_float_std_m", q.rtk_float_std_m, {0.001, 1e3});
     q.use_velocity = g.boolean_or("use_velocity", q.use_velocity);
     q.velocity_std_mps = g.number_or("velocity_std_mps", q.velocity_std_mps, {0.001, 100});
     q.gate_chi2 = g.number_or("gate_chi2", q.gate_chi2, {0, 1e6});

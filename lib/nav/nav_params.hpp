@@ -42,7 +42,11 @@ struct NavParams {
     int min_fix = 1;             // gnss_fix_t::FIX_2D or FIX_3D: the least fix type used
     double default_std_m = 2.5;  // 1-sigma per horizontal axis when a fix says none
     double min_std_m = 0.3;      // floor on a fix's own sigma
-    bool use_velocity = true;    // speed and course over ground as a velocity measurement
+    // An RTK fix whose accuracy is not the receiver's own (gpsd's DOP model, or none): at most
+    // this 1-sigma per horizontal axis, m (then the floor above). docs/sensors.md.
+    double rtk_fixed_std_m = 0.05;
+    double rtk_float_std_m = 0.5;
+    bool use_velocity = true;  // speed and course over ground as a velocity measurement
     double velocity_std_mps = 0.1;
     double gate_chi2 = 13.8;     // NIS gate, 2 degrees of freedom (13.8: 1 in 1000)
     int reset_after = 25;        // consecutive gated fixes, then the position is reset

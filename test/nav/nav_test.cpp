@@ -267,6 +267,44 @@ TEST(NavNode, ConvergesOnAStraightLine) {
                                  node.counter_value("rejected.heading.gate"));
 }
 
+// Issue 31: the RTK state is used as accuracy when the receiver gives no statistics of its own,
+// and an unknown accuracy is poor (default_std_m), not perfect. The same flight's fixes, with
+// gpsd's DOP model saying 3 m: the filter's position 1-sigma at the end follows the fix type.
+TEST(NavNode, TheRtkStateIsTheAccuracyWhenTheReceiverGivesNone) {
+  auto final_sigma = [](std::int8_t fix, std::int8_t source, double std_m) {
+    NavParams p = usv_params();
+    NavNode node(p);
+    test::Noise rtk_receiver;  // positions as good as an RTK fix: the gate refuses none
+    rtk_receiver.gnss_std_m = 0.02;
+    Synthetic syn({{60, 0.0}}, 7, rtk_receiver);
+    Feed f;
+    f.edit_fix = [&](TimeUs, gnss_fix_t& m) {
+      m.fix_type = fix;
+      m.accuracy_source = source;
+      m.position_std[0] = m.position_std[1] = std_m;
+    };
+    fly(node, syn, 20, f);
+    return std::sqrt(node.last_odometry().pose_covariance[0]);
+  };
+  using G = gnss_fix_t;
+  const double dop = final_sigma(G::FIX_3D, G::ACCURACY_DOP, 3.0);
+  const double fixed = final_sigma(G::FIX_RTK_FIXED, G::ACCURACY_DOP, 3.0);
+  const double flt = final_sigma(G::FIX_RTK_FLOAT, G::ACCURACY_DOP, 3.0);
+  const double own = final_sigma(G::FIX_RTK_FIXED, G::ACCURACY_RECEIVER, 3.0);
+  const double none = final_sigma(G::FIX_3D, G::ACCURACY_NONE, 0.0);
+  const double fixed_none = final_sigma(G::FIX_RTK_FIXED, G::ACCURACY_NONE, 0.0);
+  std::printf(
+      "position 1-sigma at the end: 3D+DOP 3 m %.3f, RTK fixed %.3f, RTK float %.3f, "
+      "RTK fixed with the receiver's own 3 m %.3f, unknown %.3f, RTK fixed unknown %.3f\n",
+      dop, fixed, flt, own, none, fixed_none);
+  EXPECT_LT(fixed, flt);       // fixed: min(3, 0.05) floored to min_std_m 0.3
+  EXPECT_LT(flt, dop);         // float: min(3, 0.5)
+  EXPECT_DOUBLE_EQ(own, dop);  // the receiver's own statistics win over the state
+  EXPECT_GT(none, fixed);      // unknown: default_std_m 2.5, not 0
+  EXPECT_LT(none, dop);
+  EXPECT_DOUBLE_EQ(fixed_none, fixed);  // unknown but RTK fixed: the state's 1-sigma
+}
+
 TEST(NavNode, ConvergesInTurns) {
   NavNode node(usv_params());
   // 20 s straight, 60 s turning right at 0.1 rad/s, 20 s straight, 40 s left at 0.15 rad/s.
