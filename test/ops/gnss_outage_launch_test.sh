@@ -72,9 +72,10 @@ awk -F, -v back="$back" 'NR > 1 { if (int($2 / 16) % 2) dr++; if ($1 > back + 5)
 # Back to the receiver smoothly (issue 31 case 6): no step of the published position larger than
 # the receiver's own horizontal 1-sigma (the hypot of its position_std, the largest it reported in
 # the 10 s after the outage; measured 2.15 m against 3.00 m; before the recovery blending, 7.7 m).
-# The largest thruster command step is printed, not asserted: the failsafe's release hands the
-# thrusters from station keeping back to the velocity PID, a step as large as a corner's in
-# normal running (measured 1.75 after, 1.57 in the 10 s before the outage).
+# The largest thruster command step is printed, not asserted: it is not yet what issue 31 asks.
+# Measured 1.75 (the yaw pair from (+0.75, -1) to (-1, +0.75) in one command) 1.0 s after the
+# first fix back, while the failsafe still holds: station keeping reverses its full yaw as the
+# returning estimate crosses the held point (1.57 in the 10 s before the outage, at a corner).
 # Columns come in message order: t_s,valid,position[0..1].
 "$bin/tiller-log" csv "$tmp/run.lcmlog" TILLER_ODOMETRY --fields position[0],position[1],valid > "$tmp/pos.csv"
 "$bin/tiller-log" csv "$tmp/run.lcmlog" TILLER_GNSS --fields fix_type,position_std[0],position_std[1] > "$tmp/std.csv"
@@ -86,10 +87,10 @@ awk -F, -v back="$back" -v last="$last" '
              if (ok && had) { d = sqrt(($3 - x) ^ 2 + ($4 - y) ^ 2); if (d > step) { step = d; at = $1 } }
              had = ok; x = $3; y = $4 }; next }
   FNR > 1 { if (had) for (i = 2; i <= 3; i++) { d = $i - c[i]; if (d < 0) d = -d
-                                                if ($1 >= back && $1 <= back + 10 && d > cstep) cstep = d
+                                                if ($1 >= back && $1 <= back + 10 && d > cstep) { cstep = d; cat = $1 }
                                                 if ($1 >= last - 10 && $1 <= last && d > cbefore) cbefore = d }
             had = 1; c[2] = $2; c[3] = $3 }
-  END { printf "back from the outage: largest position step %.2f m at %.2f s, the receiver 1-sigma %.2f m; largest thruster command step %.3f in the 10 s after (%.3f in the 10 s before the outage)\n", step, at, sigma, cstep, cbefore
+  END { printf "back from the outage: largest position step %.2f m at %.2f s, the receiver 1-sigma %.2f m; largest thruster command step %.3f in the 10 s after, at %.2f s (%.3f in the 10 s before the outage)\n", step, at, sigma, cstep, cat, cbefore
         exit !(sigma > 0 && step <= sigma) }' "$tmp/std.csv" "$tmp/pos.csv" "$tmp/cmd.csv" ||
   { echo "FAIL: the estimate did not return to the receiver smoothly"; fail=1; }
 [ $fail -eq 0 ] && echo "gnss_outage_launch_test: ok"
