@@ -85,7 +85,13 @@ PidTerms StationPid::step(const StationPidInput& in) {
     // |F| between weathervane_min_force and weathervane_full_force (below: the target heading).
     // No switch anywhere: the yaw demand is continuous in the error.
     if (fmag > 0) {
-      const double d_bow = angle_diff(std::atan2(fe, fn), in.heading);
+      double d_bow = angle_diff(std::atan2(fe, fn), in.heading);
+      // Hysteresis at the stern: a force crossing dead astern (more than 150 deg off the bow)
+      // keeps the turn going the way it was, instead of reversing full yaw (the held point
+      // passing behind the boat as the estimate comes back from a GNSS outage, issue 31).
+      if (std::abs(d_bow) > 5 * kPi / 6 && turn_ != 0 && (d_bow > 0 ? 1 : -1) != turn_)
+        d_bow += 2 * kPi * turn_;
+      turn_ = d_bow > 0 ? 1 : d_bow < 0 ? -1 : turn_;
       // Toward the nearer end of the hull's axis (bow or stern), at full strength up to 60 deg
       // off the axis, fading to 0 at 90 deg (where bow and stern are equally near).
       const double d_end = std::abs(d_bow) <= kPi / 2 ? d_bow : wrap_pi(d_bow + kPi);

@@ -63,6 +63,7 @@ class StationPid {
   void reset() {
     i_world_ = {0, 0};
     i_yaw_ = 0;
+    turn_ = 0;
   }
   const StationPidParams& params() const { return p_; }
 
@@ -73,6 +74,7 @@ class StationPid {
   StationPidParams p_;
   std::array<double, 2> i_world_{0, 0};  // N, north/east
   double i_yaw_ = 0;                     // N m
+  int turn_ = 0;  // the weathervane's last turn toward the force: +1 right, -1 left, 0 none yet
 };
 
 }  // namespace tiller::control

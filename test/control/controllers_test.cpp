@@ -355,6 +355,32 @@ TEST(StationPid, WeathervaneHasNoHardSwitches) {
   EXPECT_NEAR(t.setpoint[2], 0.3, 1e-12);
 }
 
+// Issue 31: the held point passing dead astern of the boat, outside reverse_radius (the estimate
+// coming back from a GNSS outage while the failsafe holds), must not reverse full yaw from one
+// command to the next: the turn goes on the way it was (measured through the launched stack
+// before: the yaw pair from (+0.75, -1) to (-1, +0.75) in one command).
+TEST(StationPid, AForceCrossingDeadAsternDoesNotReverseTheTurn) {
+  const auto p = otter_station();
+  ASSERT_TRUE(p.weathervane);
+  StationPid pid(p);
+  StationPidInput in;  // at the origin facing north, at rest; the target 3 m behind, sliding
+  double last = 0, worst = 0;
+  for (int k = 0; k <= 40; ++k) {  // east of dead astern to west of it: -0.4 m .. +0.4 m east
+    in.target_n = -3.0;
+    in.target_e = -0.4 + 0.02 * k;
+    const auto t = pid.step(in);
+    if (k > 0) worst = std::max(worst, std::abs(t.out[2] - last));
+    last = t.out[2];
+  }
+  std::printf("largest yaw step with the force crossing dead astern: %.2f N m (max %.0f)\n", worst,
+              p.yaw.max_output);
+  EXPECT_LT(worst, 0.1 * p.yaw.kp);
+  // A fresh controller, the force just to port of astern: it turns left (the nearer way).
+  StationPid fresh(p);
+  in.target_e = -0.2;
+  EXPECT_LT(fresh.step(in).out[2], 0.0);
+}
+
 // Issue 13 finding 3: in weathervane mode the sideways part of the integral integrates (the
 // boat makes it by turning) and unwinds; before, sway never integrated and a world-fixed integral
 // that a turn had put along sway stayed there, balanced by a standing offset I_y / kp_y.
