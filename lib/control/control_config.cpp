@@ -4,6 +4,7 @@
 
 #include <filesystem>
 
+#include "core/angles.hpp"
 #include "core/config_files.hpp"
 
 namespace tiller::control {
@@ -100,6 +101,7 @@ StationPidParams load_station_pid_params(const config::Value& v) {
       v.number("weathervane_full_force", Range::at_least(p.weathervane_min_force));
   p.reverse_radius = v.number("reverse_radius", Range::at_least(0));
   p.reverse_blend = v.number("reverse_blend_m", Range::at_least(0));
+  p.heading_rate_limit = deg_to_rad(v.number_or("heading_rate_limit_dps", 0.0, {0, 3600}));
   return p;
 }
 

@@ -105,6 +105,18 @@ PidTerms StationPid::step(const StationPidInput& in) {
       epsi = w_force * d_force + (1 - w_force) * epsi_target;
       t.setpoint[2] = wrap_pi(in.heading + epsi);
     }
+    // The heading setpoint moves at most heading_rate_limit (a gap longer than max_dt, or the
+    // first step, starts it afresh).
+    if (p_.heading_rate_limit > 0) {
+      const double step = p_.heading_rate_limit * in.dt;
+      const double d = angle_diff(t.setpoint[2], last_setpoint_);
+      if (have_setpoint_ && in.dt > 0 && in.dt <= p_.max_dt && std::abs(d) > step) {
+        t.setpoint[2] = wrap_pi(last_setpoint_ + std::clamp(d, -step, step));
+        epsi = angle_diff(t.setpoint[2], in.heading);
+      }
+      have_setpoint_ = true;
+      last_setpoint_ = t.setpoint[2];
+    }
     // Only the part of F along the bow can be produced: it is fx = P + I + D of the x axis.
     // The sway terms stay published as they are applied: their sum is the sideways part of F,
     // which the heading setpoint (setpoint[2]) turns the bow toward; no sway force is sent.

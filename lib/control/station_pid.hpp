@@ -46,6 +46,9 @@ struct StationPidParams {
   double weathervane_full_force = 10;  // N: above this, follow the force; blended between
   double reverse_radius = 1.0;         // m: within this, push astern rather than turn around
   double reverse_blend = 0.5;          // m: bow rule fades in from reverse_radius over this
+  // rad/s, 0 = none: how fast the weathervane may move its heading setpoint (world frame), so
+  // that a step of the estimate across the reverse blend swings the bow, not the thrusters.
+  double heading_rate_limit = 0;
 };
 
 struct StationPidInput {
@@ -64,6 +67,7 @@ class StationPid {
     i_world_ = {0, 0};
     i_yaw_ = 0;
     turn_ = 0;
+    have_setpoint_ = false;
   }
   const StationPidParams& params() const { return p_; }
 
@@ -75,6 +79,8 @@ class StationPid {
   std::array<double, 2> i_world_{0, 0};  // N, north/east
   double i_yaw_ = 0;                     // N m
   int turn_ = 0;  // the weathervane's last turn toward the force: +1 right, -1 left, 0 none yet
+  bool have_setpoint_ = false;
+  double last_setpoint_ = 0;  // rad NED: the weathervane's last heading setpoint
 };
 
 }  // namespace tiller::control

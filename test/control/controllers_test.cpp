@@ -381,6 +381,50 @@ TEST(StationPid, AForceCrossingDeadAsternDoesNotReverseTheTurn) {
   EXPECT_LT(fresh.step(in).out[2], 0.0);
 }
 
+// Issue 31: the estimate stepping 0.6 m at recovery (within the fix's 1-sigma) moved the held
+// point from 1.36 m to 0.99 m away, across the reverse blend, and the heading setpoint 115 deg at
+// once: full yaw reversed in one command. With the Otter's heading_rate_limit_dps (60) the
+// setpoint moves at most 60 deg/s and the yaw output a few N m per 50 ms step.
+TEST(StationPid, TheWeathervaneSetpointMovesAtMostItsRateLimit) {
+  const auto p = otter_station();
+  ASSERT_NEAR(p.heading_rate_limit, deg_to_rad(60), 1e-12);
+  auto worst_yaw_step = [&](const StationPidParams& q, double& sp_step) {
+    StationPid pid(q);
+    StationPidInput in;  // heading -1.23 rad, as measured
+    in.heading = -1.234;
+    in.dt = 0.05;
+    double last = 0, last_sp = 0, worst = 0;
+    sp_step = 0;
+    for (int k = 0; k < 60; ++k) {
+      // body position relative to the target: (0.23, -1.34) m, then (0.55, -0.82) m from k = 20
+      const double bx = k < 20 ? 0.23 : 0.55, by = k < 20 ? -1.34 : -0.82;
+      const double c = std::cos(in.heading), s = std::sin(in.heading);
+      in.target_n = -(c * bx - s * by);  // the target relative to the vehicle, world frame
+      in.target_e = -(s * bx + c * by);
+      const auto t = pid.step(in);
+      if (k > 0) {
+        worst = std::max(worst, std::abs(t.out[2] - last));
+        sp_step = std::max(sp_step, std::abs(angle_diff(t.setpoint[2], last_sp)));
+      }
+      last = t.out[2];
+      last_sp = t.setpoint[2];
+    }
+    return worst;
+  };
+  double sp_limited = 0, sp_free = 0;
+  const double limited = worst_yaw_step(p, sp_limited);
+  auto free = p;
+  free.heading_rate_limit = 0;
+  const double unlimited = worst_yaw_step(free, sp_free);
+  std::printf(
+      "estimate step across the reverse blend: yaw step %.1f N m, setpoint %.1f deg "
+      "(without the limit: %.1f N m, %.1f deg)\n",
+      limited, rad_to_deg(sp_limited), unlimited, rad_to_deg(sp_free));
+  EXPECT_GT(unlimited, p.yaw.max_output);  // the reversal this guards against
+  EXPECT_LE(sp_limited, deg_to_rad(60) * 0.05 + 1e-9);
+  EXPECT_LT(limited, 0.1 * p.yaw.kp);
+}
+
 // Issue 13 finding 3: in weathervane mode the sideways part of the integral integrates (the
 // boat makes it by turning) and unwinds; before, sway never integrated and a world-fixed integral
 // that a turn had put along sway stayed there, balanced by a standing offset I_y / kp_y.
@@ -449,6 +493,7 @@ TEST(StationPid, TermsAddUpToTheOutputInWeathervaneMode) {
   auto p = otter_station();
   p.yaw.ki = 2;  // exercise the yaw integral too
   p.yaw.i_limit = 10;
+  p.heading_rate_limit = 0;  // the setpoint along the force at once (the limit: its own test)
   StationPid pid(p);
   StationPidInput in;
   for (int k = 0; k < 100; ++k) {

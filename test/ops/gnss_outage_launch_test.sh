@@ -72,12 +72,12 @@ awk -F, -v back="$back" 'NR > 1 { if (int($2 / 16) % 2) dr++; if ($1 > back + 5)
 # Back to the receiver smoothly (issue 31 case 6): no step of the published position larger than
 # the receiver's own horizontal 1-sigma (the hypot of its position_std, the largest it reported in
 # the 10 s after the outage; measured 2.15 m against 3.00 m; before the recovery blending, 7.7 m).
-# The largest thruster command step is printed, not asserted: it is not yet what issue 31 asks.
-# Measured 1.75 (the yaw pair from (+0.75, -1) to (-1, +0.75) in one command) 1.1 s after the
-# first fix back, while the failsafe still holds: the estimate steps 0.6 m (within the fix's
-# 1-sigma, as allowed), the held point goes from 1.36 m to 0.99 m away, across station keeping's
-# weathervane blend (reverse_radius 1 m + 0.5 m), and its heading setpoint from bow-toward to
-# axis-toward, 115 deg at once (1.57 in the 10 s before the outage, at a corner).
+# And no thruster command steps by 1 or more between two commands in those 10 s (half the range:
+# not a reversal). Before station keeping's heading_rate_limit_dps it was 1.75, the yaw pair from
+# (+0.75, -1) to (-1, +0.75) 1.1 s after the first fix back while the failsafe held: the
+# estimate's allowed 0.6 m step took the held point from 1.36 to 0.99 m away, across the
+# weathervane's reverse blend, and its heading setpoint 115 deg at once; measured 0.63 after.
+# (1.57 in the 10 s before the outage, at a corner: the velocity PID's, not this test's.)
 # Columns come in message order: t_s,valid,position[0..1].
 "$bin/tiller-log" csv "$tmp/run.lcmlog" TILLER_ODOMETRY --fields position[0],position[1],valid > "$tmp/pos.csv"
 "$bin/tiller-log" csv "$tmp/run.lcmlog" TILLER_GNSS --fields fix_type,position_std[0],position_std[1] > "$tmp/std.csv"
@@ -93,7 +93,7 @@ awk -F, -v back="$back" -v last="$last" '
                                                 if ($1 >= last - 10 && $1 <= last && d > cbefore) cbefore = d }
             had = 1; c[2] = $2; c[3] = $3 }
   END { printf "back from the outage: largest position step %.2f m at %.2f s, the receiver 1-sigma %.2f m; largest thruster command step %.3f in the 10 s after, at %.2f s (%.3f in the 10 s before the outage)\n", step, at, sigma, cstep, cat, cbefore
-        exit !(sigma > 0 && step <= sigma) }' "$tmp/std.csv" "$tmp/pos.csv" "$tmp/cmd.csv" ||
+        exit !(sigma > 0 && step <= sigma && cstep < 1.0) }' "$tmp/std.csv" "$tmp/pos.csv" "$tmp/cmd.csv" ||
   { echo "FAIL: the estimate did not return to the receiver smoothly"; fail=1; }
 [ $fail -eq 0 ] && echo "gnss_outage_launch_test: ok"
 exit $fail
