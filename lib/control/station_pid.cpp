@@ -87,8 +87,7 @@ PidTerms StationPid::step(const StationPidInput& in) {
     if (fmag > 0) {
       double d_bow = angle_diff(std::atan2(fe, fn), in.heading);
       // Hysteresis at the stern: a force crossing dead astern (more than 150 deg off the bow)
-      // keeps the turn going the way it was, instead of reversing full yaw (the held point
-      // passing behind the boat as the estimate comes back from a GNSS outage, issue 31).
+      // keeps the turn going the way it was instead of reversing full yaw.
       if (std::abs(d_bow) > 5 * kPi / 6 && turn_ != 0 && (d_bow > 0 ? 1 : -1) != turn_)
         d_bow += 2 * kPi * turn_;
       turn_ = d_bow > 0 ? 1 : d_bow < 0 ? -1 : turn_;

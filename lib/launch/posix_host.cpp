@@ -229,6 +229,14 @@ int PosixHost::spawn(const ProcessSpec& p, std::string& error) {
   return pid;
 }
 
+bool PosixHost::file_has_data(const std::string& path, TimeUs since) {
+  struct stat st {};
+  if (::stat(path.c_str(), &st) != 0 || st.st_size == 0) return false;
+  const TimeUs mtime = static_cast<TimeUs>(st.st_mtim.tv_sec) * kUsPerSecond +
+                       static_cast<TimeUs>(st.st_mtim.tv_nsec / 1000);
+  return mtime >= since;
+}
+
 void PosixHost::signal(int pid, int sig) {
   if (pid <= 0) return;
   if (::kill(-pid, sig) != 0) ::kill(pid, sig);

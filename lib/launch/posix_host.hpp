@@ -31,6 +31,7 @@ class PosixHost : public ProcessHost {
   // Returns its pid, or -1 (then only direct children are covered) with `error` set.
   int start_guard(std::string& error);
   void signal(int pid, int sig) override;
+  bool file_has_data(const std::string& path, TimeUs since) override;
 
   // Resolves a command to an executable path ("" if none is found).
   std::string resolve(const std::string& command) const;

@@ -6,8 +6,6 @@
 #include <cstring>
 #include <sstream>
 
-#include <sys/stat.h>
-
 namespace tiller::launch {
 
 namespace {
@@ -64,14 +62,6 @@ Supervisor::Supervisor(std::vector<ProcessSpec> procs, std::string ends_with, do
   }
 }
 
-bool ProcessHost::file_has_data(const std::string& path, TimeUs since) {
-  struct stat st {};
-  if (::stat(path.c_str(), &st) != 0 || st.st_size == 0) return false;
-  const TimeUs mtime = static_cast<TimeUs>(st.st_mtim.tv_sec) * kUsPerSecond +
-                       static_cast<TimeUs>(st.st_mtim.tv_nsec / 1000);
-  return mtime >= since;
-}
-
 void Supervisor::start(TimeUs now) {
   started_ = true;
   started_at_ = now;
@@ -102,9 +92,9 @@ void Supervisor::spawn(std::size_t i, TimeUs now) {
 
 void Supervisor::poll(TimeUs now) {
   if (!started_ || finished_) return;
+  waiting_file_ = false;
   if (!stopping_) {
     last_poll_ = now;
-    waiting_file_ = false;
     while (next_start_ < procs_.size() && now >= start_due_) {
       const ProcessSpec& next = procs_[next_start_].spec;
       if (!next.start_after_file.empty() &&

@@ -141,9 +141,9 @@ void NavNode::on_gnss(const gnss_fix_t& m, TimeUs now) {
                      : m.fix_type == gnss_fix_t::FIX_RTK_FLOAT          ? p_.gnss.rtk_float_std_m
                                                                         : 0.0;
   auto std_of = [&](double s) {
-    double v = s > 0 ? s : p_.gnss.default_std_m;
-    if (rtk > 0) v = std::min(v, rtk);
-    return std::max(v, s > 0 || rtk > 0 ? p_.gnss.min_std_m : 0.0);
+    if (s <= 0 && rtk <= 0) return p_.gnss.default_std_m;
+    const double v = s > 0 ? s : p_.gnss.default_std_m;
+    return std::max(rtk > 0 ? std::min(v, rtk) : v, p_.gnss.min_std_m);
   };
   const double sn = std_of(m.position_std[0]), se = std_of(m.position_std[1]);
   if (!have_datum_ && !hold_datum(m, std::max(sn, se), taken)) return;
