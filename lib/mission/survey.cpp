@@ -3,6 +3,7 @@
 #include <algorithm>
 #include <cmath>
 #include <fstream>
+#include <limits>
 #include <nlohmann/json.hpp>
 #include <sstream>
 #include <stdexcept>
@@ -11,6 +12,7 @@
 #include "core/config.hpp"
 #include "mission/fence.hpp"
 #include "mission/geo.hpp"
+#include "mission/polygon_path.hpp"
 
 namespace tiller::mission {
 
@@ -50,30 +52,125 @@ Survey plan_survey(const std::vector<MissionPoint>& poly, const SurveyParams& p)
     lines.push_back(segs);
     ys.push_back(y);
   }
-  std::size_t columns = 0;
-  for (const auto& l : lines) columns = std::max(columns, l.size());
-  if (columns == 0) throw std::runtime_error("survey: no lane fits in the polygon");
+  // Cells (a boustrophedon decomposition by lines): a lane continues the cell of the one lane it
+  // overlaps on the line before when that lane overlaps only it; any split or merge starts cells.
+  struct Row {
+    std::size_t line;
+    double x0, x1;
+  };
+  std::vector<std::vector<Row>> cells;
+  std::vector<std::vector<int>> cell_of(lines.size());
+  const auto overlap = [](std::pair<double, double> u, std::pair<double, double> v) {
+    return std::min(u.second, v.second) - std::max(u.first, v.first) > 1e-9;
+  };
+  for (std::size_t li = 0; li < lines.size(); ++li) {
+    for (std::size_t j = 0; j < lines[li].size(); ++j) {
+      int cell = -1;
+      if (li > 0) {
+        int prev = -1, n_prev = 0;
+        for (std::size_t k = 0; k < lines[li - 1].size(); ++k)
+          if (overlap(lines[li - 1][k], lines[li][j])) prev = static_cast<int>(k), ++n_prev;
+        if (n_prev == 1) {
+          int n_next = 0;
+          for (const auto& seg : lines[li]) n_next += overlap(lines[li - 1][prev], seg);
+          if (n_next == 1) cell = cell_of[li - 1][prev];
+        }
+      }
+      if (cell < 0) {
+        cell = static_cast<int>(cells.size());
+        cells.emplace_back();
+      }
+      cell_of[li].push_back(cell);
+      cells[cell].push_back({li, lines[li][j].first, lines[li][j].second});
+    }
+  }
+  if (cells.empty()) throw std::runtime_error("survey: no lane fits in the polygon");
   const int skip = p.turn_radius_m > 0
                        ? std::max(1, static_cast<int>(std::ceil(2 * p.turn_radius_m / p.spacing_m)))
                        : 1;
-  Survey out;
-  bool forward = true;
-  const double r = p.turn_radius_m;
-  for (std::size_t col = 0; col < columns; ++col) {
+  // A cell flown one way: its lanes in order (every skip-th line first), alternate directions.
+  const auto fly = [&](std::size_t ci, bool reverse, bool forward) {
+    std::vector<Row> rows = cells[ci];
+    if (reverse) std::reverse(rows.begin(), rows.end());
+    std::vector<Lane> lanes;
     for (int start = 0; start < skip; ++start) {
-      for (std::size_t li = start; li < lines.size(); li += skip) {
-        if (col >= lines[li].size()) continue;
-        const auto [x0, x1] = lines[li][col];
-        const double from = forward ? x0 : x1, to = forward ? x1 : x0, dir = forward ? 1 : -1;
-        const double y = ys[li];
-        out.lanes.push_back({back(from, y), back(to, y)});
-        if (r > 0) out.points.push_back(back(from - dir * r, y));
-        out.points.push_back(back(from, y));
-        out.points.push_back(back(to, y));
-        if (r > 0) out.points.push_back(back(to + dir * r, y));
+      for (std::size_t r = start; r < rows.size(); r += skip) {
+        const double y = ys[rows[r].line];
+        lanes.push_back(forward ? Lane{back(rows[r].x0, y), back(rows[r].x1, y)}
+                                : Lane{back(rows[r].x1, y), back(rows[r].x0, y)});
         forward = !forward;
       }
     }
+    return lanes;
+  };
+  // Transits stay inside the polygon; their ends 1 mm into the lanes (off the boundary).
+  const PolygonPaths paths(poly, p.spacing_m / 2);
+  const auto nudged = [](const MissionPoint& from, const MissionPoint& toward) {
+    const double d = std::hypot(toward.north - from.north, toward.east - from.east);
+    MissionPoint m = from;
+    if (d > 2e-3) {
+      m.north += 1e-3 * (toward.north - from.north) / d;
+      m.east += 1e-3 * (toward.east - from.east) / d;
+    }
+    return m;
+  };
+  const auto transit = [&](const Lane& prev, const Lane& next, double* len) {
+    return paths.via(nudged(prev.b, prev.a), nudged(next.a, next.b), len);
+  };
+  // The cells' order: from each starting cell and way (up to kMaxStarts cells), the nearest
+  // (by transit length) unflown cell next; the order with the least transit wins.
+  constexpr std::size_t kMaxStarts = 12;
+  std::vector<Lane> best;
+  double best_len = std::numeric_limits<double>::infinity();
+  const std::size_t starts = cells.size() <= kMaxStarts ? cells.size() : 1;
+  for (std::size_t s0 = 0; s0 < starts; ++s0) {
+    for (int way0 = 0; way0 < 4; ++way0) {
+      std::vector<Lane> order = fly(s0, way0 & 1, way0 & 2);
+      std::vector<bool> flown(cells.size(), false);
+      flown[s0] = true;
+      double total = 0;
+      for (std::size_t n = 1; n < cells.size(); ++n) {
+        double nearest = std::numeric_limits<double>::infinity();
+        std::vector<Lane> pick;
+        std::size_t pick_cell = 0;
+        for (std::size_t ci = 0; ci < cells.size(); ++ci) {
+          if (flown[ci]) continue;
+          for (int way = 0; way < 4; ++way) {
+            auto lanes = fly(ci, way & 1, way & 2);
+            double len = 0;
+            transit(order.back(), lanes.front(), &len);
+            if (len < nearest) nearest = len, pick = std::move(lanes), pick_cell = ci;
+          }
+        }
+        if (pick.empty()) break;  // unreachable inside the polygon: cannot happen for one ring
+        flown[pick_cell] = true;
+        total += nearest;
+        order.insert(order.end(), pick.begin(), pick.end());
+      }
+      if (total < best_len) best_len = total, best = std::move(order);
+    }
+  }
+  Survey out;
+  out.cells = static_cast<int>(cells.size());
+  out.lanes = best;
+  const double r = p.turn_radius_m;
+  for (std::size_t k = 0; k < out.lanes.size(); ++k) {
+    const Lane& l = out.lanes[k];
+    if (k > 0) {
+      const auto v = transit(out.lanes[k - 1], l, nullptr);
+      out.points.insert(out.points.end(), v.begin(), v.end());
+      out.transit_corners += static_cast<int>(v.size());
+    }
+    const double len = std::hypot(l.b.north - l.a.north, l.b.east - l.a.east);
+    const double un = len > 0 ? (l.b.north - l.a.north) / len : 0;
+    const double ue = len > 0 ? (l.b.east - l.a.east) / len : 0;
+    MissionPoint in = l.a, outp = l.b;
+    in.north -= r * un, in.east -= r * ue;
+    outp.north += r * un, outp.east += r * ue;
+    if (r > 0) out.points.push_back(in);
+    out.points.push_back(l.a);
+    out.points.push_back(l.b);
+    if (r > 0) out.points.push_back(outp);
   }
   // Coverage on a 0.25 m grid over the polygon's bounding box.
   FenceShape shape;
