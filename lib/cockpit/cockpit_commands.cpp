@@ -1,8 +1,8 @@
 // CockpitNode's commands from the page: the token rule (checked first, in constant time; nothing
-// else is read without it) and the commands arm, mode, mission_load and mission, each checked and
-// sent once on its Tiller channel (signed by the transport, sender "cockpit"). The gamepad and the
-// thruster test are in cockpit_pilot.cpp. The rules: cockpit/cockpit_node.hpp; the protocol:
-// docs/reference/cockpit-api.md.
+// else is read without it) and the commands arm, mode and mission, each checked and sent once on
+// its Tiller channel (signed by the transport, sender "cockpit"). A mission's upload and its items
+// are in cockpit_mission.cpp, the gamepad and the thruster test in cockpit_pilot.cpp. The rules:
+// cockpit/cockpit_node.hpp; the protocol: docs/reference/cockpit-api.md.
 #include <sodium.h>
 
 #include <algorithm>
@@ -142,38 +142,6 @@ void CockpitNode::on_mode(int client, const void* jp, TimeUs now) {
   reply(client, cmd, true, "mode " + m + " sent");
 }
 
-void CockpitNode::on_mission_load(int client, const void* jp, TimeUs now) {
-  const json& j = *static_cast<const json*>(jp);
-  const std::string_view cmd = "mission_load";
-  const json* name = member(j, "name");
-  const json* body = member(j, "text");
-  if (!name || !name->is_string() || !body || !body->is_string()) {
-    refuse(client, cmd, *bad_command_, "mission_load: expected \"name\" and \"text\" strings");
-    return;
-  }
-  mission::Mission m;
-  try {
-    m = loader_(name->get<std::string>(), body->get<std::string>());
-  } catch (const std::exception& e) {
-    refuse(client, cmd, *bad_mission_, e.what());
-    return;
-  }
-  path_ = mission::to_path(m, next_id(now), now);
-  path_active_ = true;
-  path_sent_ = now;
-  publish(channels::kPath, path_);
-  controller_mode_t c{};
-  c.utime = now;
-  c.mode = controller_mode_t::WAYPOINTING;
-  c.is_translation = m.is_translation;
-  c.source = "cockpit";
-  publish(channels::kMode, c);
-  ++*accepted_;
-  reply(client, cmd, true,
-        m.name + ": " + std::to_string(m.waypoints.size()) + " waypoints, path_id " +
-            std::to_string(path_.path_id) + " (mode WAYPOINTING; arm, then start)");
-}
-
 void CockpitNode::on_mission(int client, const void* jp, TimeUs now) {
   const json& j = *static_cast<const json*>(jp);
   const std::string_view cmd = "mission";
@@ -205,7 +173,7 @@ void CockpitNode::on_mission(int client, const void* jp, TimeUs now) {
   mc.source = "cockpit";
   publish(channels::kMissionCommand, mc);
   if (mc.command == mission_command_t::ABORT || mc.command == mission_command_t::RELEASE)
-    path_active_ = false;
+    end_mission();
   if (mc.command == mission_command_t::RELEASE) {
     arm_request_t a{};
     a.utime = now;

@@ -14,6 +14,7 @@
 #include <tiller/arm_request_t.hpp>
 #include <tiller/arm_state_t.hpp>
 #include <tiller/controller_mode_t.hpp>
+#include <tiller/datum_t.hpp>
 #include <tiller/esc_output_t.hpp>
 #include <tiller/gnss_fix_t.hpp>
 #include <tiller/mission_command_t.hpp>
@@ -49,6 +50,7 @@ enum : int {
   kPidVelocity,
   kPidStation,
   kGnss,
+  kDatum,
   kSlots
 };
 
@@ -74,7 +76,8 @@ const std::vector<std::string>& state_channels() {
                                              channels::kEscOutput,
                                              channels::kPidVelocity,
                                              channels::kPidStation,
-                                             channels::kGnss};
+                                             channels::kGnss,
+                                             channels::kDatum};
   return c;
 }
 
@@ -88,7 +91,15 @@ void CockpitNode::on_state(const Msg& m, TimeUs now) {
   s.msg = m;
   s.rx = now;
   s.dirty = true;
-  if constexpr (std::is_same_v<Msg, odometry_t>) gate_.on_odometry(m, now);
+  if constexpr (std::is_same_v<Msg, odometry_t>) {
+    gate_.on_odometry(m, now);
+    on_items_odometry(m, now);
+  }
+  if constexpr (std::is_same_v<Msg, path_progress_t>) on_items_progress(m, now);
+  if constexpr (std::is_same_v<Msg, datum_t>) {
+    datum_ = {m.latitude, m.longitude, m.altitude};
+    have_datum_ = true;
+  }
   if constexpr (std::is_same_v<Msg, arm_state_t>) boot_nonce_ = m.boot_nonce;  // arms carry it
 }
 
@@ -130,6 +141,7 @@ CockpitNode::CockpitNode(CockpitParams p, std::string token, MissionLoader loade
   add(std::make_unique<Slot<pid_terms_t>>(), kPidStation,
       &CockpitNode::on_state<pid_terms_t, kPidStation>);
   add(std::make_unique<Slot<gnss_fix_t>>(), kGnss, &CockpitNode::on_state<gnss_fix_t, kGnss>);
+  add(std::make_unique<Slot<datum_t>>(), kDatum, &CockpitNode::on_state<datum_t, kDatum>);
   for (const auto& name : p_.processes) {
     Process pr;
     pr.name = name;
@@ -145,6 +157,7 @@ CockpitNode::CockpitNode(CockpitParams p, std::string token, MissionLoader loade
   advertise<controller_mode_t>(channels::kMode);
   advertise<mission_command_t>(channels::kMissionCommand);
   advertise<path_t>(channels::kPath);
+  advertise<path_speed_t>(channels::kPathSpeed);
   advertise<thruster_test_t>(channels::kThrusterTest);
   bad_heartbeat_ = &counter("rejected.heartbeat.check");
   heartbeat_unknown_ = &counter("rejected.heartbeat.unknown_process");
@@ -159,6 +172,7 @@ CockpitNode::CockpitNode(CockpitParams p, std::string token, MissionLoader loade
   pilot_released_ = &counter("pilot.lost.released");
   test_refused_ = &counter("rejected.thruster_test.refused");
   not_ready_ = &counter("rejected.mission.not_ready");
+  fence_breaches_ = &counter("fence.breaches");
   frame_.reserve(64 * 1024);
   set_health(heartbeat_t::STATE_OK, "serving the cockpit");
 }
@@ -187,11 +201,8 @@ void CockpitNode::emit(int client) {
 void CockpitNode::on_tick(TimeUs now) {
   if (pilot_ >= 0 && now - pilot_rx_ > p_.gamepad_timeout) pilot_lost(now, *pilot_timeout_);
   if (test_.tick(now)) publish(channels::kThrusterTest, test_.message());
-  if (path_active_ && now - path_sent_ >= p_.path_repeat) {
-    path_.utime = now;
-    publish(channels::kPath, path_);
-    path_sent_ = now;
-  }
+  if (seq_ && path_active_) fly_items(seq_->on_tick(now), now);
+  if (path_active_ && now - path_sent_ >= p_.path_repeat) publish_mission_path(now);
   write_state(now, false);
   emit(kAllClients);
 }
@@ -199,6 +210,10 @@ void CockpitNode::on_tick(TimeUs now) {
 void CockpitNode::client_opened(int client, TimeUs now) {
   write_hello(client);
   emit(client);
+  if (!mission_frame_.empty()) {
+    frame_ = mission_frame_;
+    emit(client);
+  }
   write_state(now, true);
   emit(client);
 }

@@ -19,9 +19,11 @@
 // publications, signed by the transport like every node's (sender "cockpit"):
 //   arm (needs confirm: true) / disarm   -> TILLER_ARM_REQUEST, once
 //   mode                                 -> TILLER_MODE, once
-//   mission_load (YAML or CSV text)      -> TILLER_PATH (new path_id; repeated every
+//   mission_load (YAML, CSV or .plan text) -> TILLER_PATH (new path_id; repeated every
 //                                           path_repeat_s until abort/release) + TILLER_MODE
-//                                           WAYPOINTING, once
+//                                           WAYPOINTING, once; with items, leg by leg with
+//                                           TILLER_PATH_SPEED (cockpit_mission.cpp); in lat/lon
+//                                           about TILLER_DATUM; a "mission" frame for the map
 //   mission start/pause/resume/abort/release -> TILLER_MISSION_COMMAND (a new command_id each);
 //                                           release also a disarm request; with start_gate a
 //                                           start is refused (rejected.mission.not_ready) while
@@ -44,17 +46,22 @@
 
 #include <functional>
 #include <memory>
+#include <optional>
 #include <string>
 #include <string_view>
 #include <vector>
 
 #include <tiller/heartbeat_t.hpp>
 #include <tiller/manual_demand_t.hpp>
+#include <tiller/odometry_t.hpp>
+#include <tiller/path_progress_t.hpp>
+#include <tiller/path_speed_t.hpp>
 #include <tiller/path_t.hpp>
 
 #include "cockpit/cockpit_config.hpp"
 #include "cockpit/thruster_test.hpp"
 #include "mission/mission.hpp"
+#include "mission/sequencer.hpp"
 #include "runtime/node.hpp"
 
 namespace tiller::cockpit {
@@ -67,10 +74,11 @@ class CockpitNode : public Node {
   static constexpr int kAllClients = -1;
   // Where frames go: (client id or kAllClients, one JSON text).
   using Sink = std::function<void(int client, const std::string& json)>;
-  // Parses a mission file's text ("name" says .yaml/.yml or .csv); throws config::Error with
-  // the line and key.
+  // Parses a mission file's text ("name" says .yaml/.yml, .csv or .plan), lat/lon converted to
+  // metres about the datum when one is given; throws config::Error with the line and key.
   using MissionLoader =
-      std::function<mission::Mission(const std::string& name, const std::string& text)>;
+      std::function<mission::Mission(const std::string& name, const std::string& text,
+                                     const std::optional<mission::GeoPoint>& datum)>;
 
   CockpitNode(CockpitParams p, std::string token, MissionLoader loader);
   ~CockpitNode() override;
@@ -108,7 +116,13 @@ class CockpitNode : public Node {
   // The commands (json: the command's nlohmann::json object).
   void on_arm(int client, const void* json, TimeUs now);
   void on_mode(int client, const void* json, TimeUs now);
-  void on_mission_load(int client, const void* json, TimeUs now);
+  void on_mission_load(int client, const void* json, TimeUs now);  // cockpit_mission.cpp
+  void publish_mission_path(TimeUs now);  // the speeds (items), then the path
+  void fly_items(mission::Sequencer::Action a, TimeUs now);
+  void on_items_odometry(const odometry_t& m, TimeUs now);
+  void on_items_progress(const path_progress_t& m, TimeUs now);
+  void end_mission();  // abort, release, a new upload: no more repeats, no sequencer
+  void write_mission_frame(const mission::Mission& m);
   void on_mission(int client, const void* json, TimeUs now);
   void on_gamepad(int client, const void* json, TimeUs now);
   void on_thruster_test(int client, const void* json, TimeUs now);
@@ -140,6 +154,16 @@ class CockpitNode : public Node {
   TimeUs path_sent_ = 0;
   std::int64_t last_id_ = 0;
   mission::StartGate gate_;
+  std::unique_ptr<mission::Mission> items_;  // a mission with items: flown by seq_
+  std::unique_ptr<mission::Sequencer> seq_;
+  std::int64_t base_id_ = 0;  // legs are path_ids base_id_, base_id_ + 1, ...
+  path_speed_t speed_{};
+  std::string items_status_;   // the sequencer's status last put in the heartbeat
+  std::string mission_frame_;  // the loaded plan for the map ("": none), sent to new pages
+  bool have_datum_ = false;    // TILLER_DATUM seen: uploads in lat/lon are localised about datum_
+  mission::GeoPoint datum_;
+  bool have_position_ = false;  // the latest odometry with a valid position
+  mission::MissionPoint position_;
   // counters
   std::int64_t* accepted_;
   std::int64_t* bad_token_;
@@ -154,6 +178,7 @@ class CockpitNode : public Node {
   std::int64_t* bad_heartbeat_;
   std::int64_t* test_refused_;
   std::int64_t* not_ready_;
+  std::int64_t* fence_breaches_;
 };
 
 }  // namespace tiller::cockpit

@@ -52,11 +52,12 @@ std::string load_or_create_token(const std::string& path) {
   return token;
 }
 
-mission::Mission load_mission_text(const std::string& name, const std::string& text) {
+mission::Mission load_mission_text(const std::string& name, const std::string& text,
+                                   const std::optional<mission::GeoPoint>& datum) {
   const std::string base = fs::path(name).filename().string();
   const std::string ext = fs::path(base).extension().string();
-  if (base.empty() || (ext != ".yaml" && ext != ".yml" && ext != ".csv"))
-    throw std::runtime_error(name + ": expected a .yaml, .yml or .csv mission file");
+  if (base.empty() || (ext != ".yaml" && ext != ".yml" && ext != ".csv" && ext != ".plan"))
+    throw std::runtime_error(name + ": expected a .yaml, .yml, .csv or .plan mission file");
   for (char c : base) {
     if (!(std::isalnum(static_cast<unsigned char>(c)) || c == '.' || c == '-' || c == '_'))
       throw std::runtime_error(name + ": a file name of letters, digits, '.', '-' and '_' only");
@@ -75,14 +76,8 @@ mission::Mission load_mission_text(const std::string& name, const std::string& t
     fs::remove_all(dir, ec);
   };
   try {
-    mission::Mission m = mission::load_mission_file(file);
+    mission::Mission m = mission::load_mission_file(file, datum);
     cleanup();
-    // The page publishes a plain path: items (loiter, return home, fence...) would be dropped.
-    if (!m.items.empty())
-      throw std::runtime_error(name +
-                               ": a mission with items (loiter, return home, speed, jump, "
-                               "fence) flies with tiller-mission (docs/missions.md); the cockpit "
-                               "loads plain paths (waypoints:)");
     return m;
   } catch (const std::exception& e) {
     cleanup();

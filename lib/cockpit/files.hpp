@@ -6,6 +6,7 @@
 //     exactly as tiller-mission parses a file, errors naming the uploaded name, line and key.
 #pragma once
 
+#include <optional>
 #include <string>
 
 #include "mission/mission.hpp"
@@ -15,8 +16,10 @@ namespace tiller::cockpit {
 // Throws std::runtime_error naming the file.
 std::string load_or_create_token(const std::string& path);
 
-// `name` is the uploaded file's name (.yaml, .yml or .csv); throws config::Error or
-// std::runtime_error whose message names it, the line and the key.
-mission::Mission load_mission_text(const std::string& name, const std::string& text);
+// `name` is the uploaded file's name (.yaml, .yml, .csv or a QGroundControl .plan); lat/lon is
+// converted to metres about `datum` (the vehicle's), else the plan's home. Throws config::Error
+// or std::runtime_error whose message names it, the line (or item) and the key.
+mission::Mission load_mission_text(const std::string& name, const std::string& text,
+                                   const std::optional<mission::GeoPoint>& datum = {});
 
 }  // namespace tiller::cockpit

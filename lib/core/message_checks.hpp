@@ -25,6 +25,7 @@
 #include <tiller/arm_request_t.hpp>
 #include <tiller/arm_state_t.hpp>
 #include <tiller/controller_mode_t.hpp>
+#include <tiller/datum_t.hpp>
 #include <tiller/esc_output_t.hpp>
 #include <tiller/gnss_fix_t.hpp>
 #include <tiller/heading_t.hpp>
@@ -222,6 +223,17 @@ inline Reason check(const path_speed_t& m) {
     return "n_segments.range";
   for (const double v : m.speed)
     if (!(v >= 0.0 && v <= 20.0)) return "speed.range";
+  return nullptr;
+}
+
+// datum_t: latitude in [-90, 90], longitude in [-180, 180] deg, altitude within +-1e5 m, a known
+// source.
+inline Reason check(const datum_t& m) {
+  if (!(m.latitude >= -90.0 && m.latitude <= 90.0)) return "latitude.range";
+  if (!(m.longitude >= -180.0 && m.longitude <= 180.0)) return "longitude.range";
+  if (!(m.altitude >= -1e5 && m.altitude <= 1e5)) return "altitude.range";
+  if (m.source != datum_t::SOURCE_CONFIG && m.source != datum_t::SOURCE_FIRST_FIX)
+    return "source.range";
   return nullptr;
 }
 

@@ -101,25 +101,10 @@ void MissionNode::act(Sequencer::Action a, TimeUs now) {
   switch (a) {
     case Sequencer::Action::kNone:
       return;
-    case Sequencer::Action::kNewLeg: {
-      const Leg& leg = seq_->leg();
-      path_.path_id = base_id_ + seq_->leg_number() - 1;
-      path_.waypoints.clear();
-      for (const auto& w : leg.points) {
-        waypoint_t x{};
-        x.position[0] = w.north;
-        x.position[1] = w.east;
-        x.has_heading = w.has_heading;
-        x.heading = w.heading;
-        path_.waypoints.push_back(x);
-      }
-      path_.n_waypoints = static_cast<std::int32_t>(path_.waypoints.size());
-      speed_.path_id = path_.path_id;
-      speed_.speed = leg.speeds;
-      speed_.n_segments = static_cast<std::int32_t>(speed_.speed.size());
+    case Sequencer::Action::kNewLeg:
+      leg_messages(seq_->leg(), base_id_ + seq_->leg_number() - 1, path_, speed_);
       publish_path(now);
       return;
-    }
     case Sequencer::Action::kHold:
       send_command(mission_command_t::ABORT, now);
       return;

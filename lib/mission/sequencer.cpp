@@ -183,4 +183,21 @@ Sequencer::Action Sequencer::on_position(double north, double east, TimeUs now) 
   return Action::kNewLeg;
 }
 
+void leg_messages(const Leg& leg, std::int64_t path_id, path_t& path, path_speed_t& speed) {
+  path.path_id = path_id;
+  path.waypoints.clear();
+  for (const auto& w : leg.points) {
+    waypoint_t x{};
+    x.position[0] = w.north;
+    x.position[1] = w.east;
+    x.has_heading = w.has_heading;
+    x.heading = w.heading;
+    path.waypoints.push_back(x);
+  }
+  path.n_waypoints = static_cast<std::int32_t>(path.waypoints.size());
+  speed.path_id = path_id;
+  speed.speed = leg.speeds;
+  speed.n_segments = static_cast<std::int32_t>(speed.speed.size());
+}
+
 }  // namespace tiller::mission

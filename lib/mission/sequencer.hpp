@@ -23,6 +23,9 @@
 #include <string>
 #include <vector>
 
+#include <tiller/path_speed_t.hpp>
+#include <tiller/path_t.hpp>
+
 #include "core/time.hpp"
 #include "mission/mission.hpp"
 
@@ -77,5 +80,9 @@ class Sequencer {
   int breach_ = -1;
   std::string status_;
 };
+
+// A leg as the follower's messages: its points as `path`'s waypoints and its speeds as `speed`,
+// both with `path_id` (utime left to the publisher). Reuses the messages' storage.
+void leg_messages(const Leg& leg, std::int64_t path_id, path_t& path, path_speed_t& speed);
 
 }  // namespace tiller::mission

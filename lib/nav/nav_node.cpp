@@ -44,6 +44,7 @@ NavNode::NavNode(const NavParams& p)
   subscribe(channels::kHeading, &NavNode::on_heading);
   subscribe(channels::kPressure, &NavNode::on_pressure);
   advertise<odometry_t>(channels::kOdometry);
+  advertise<datum_t>(channels::kDatum);
   bad_gnss_ = &counter("rejected.gnss.invalid");
   bad_imu_ = &counter("rejected.imu.invalid");
   bad_heading_ = &counter("rejected.heading.invalid");
@@ -464,6 +465,16 @@ void NavNode::on_tick(TimeUs now) {
   odom_.valid = valid;
   fill(now);
   publish(channels::kOdometry, odom_);
+  if (have_datum_ && (datum_sent_ < 0 || now - datum_sent_ >= kUsPerSecond)) {
+    datum_sent_ = now;
+    datum_t d{};
+    d.utime = now;
+    d.latitude = datum_.LatitudeOrigin();
+    d.longitude = datum_.LongitudeOrigin();
+    d.altitude = datum_.HeightOrigin();
+    d.source = p_.fixed_datum ? datum_t::SOURCE_CONFIG : datum_t::SOURCE_FIRST_FIX;
+    publish(channels::kDatum, d);
+  }
   report(now, valid);
 }
 

@@ -1,6 +1,7 @@
 // tiller-nav's logic, the estimator: TILLER_GNSS, TILLER_IMU, TILLER_HEADING and TILLER_PRESSURE
 // in, TILLER_ODOMETRY (odometry_t, local NED about the datum, body FRD velocity, covariances,
-// validity bits) out at rate_hz. docs/navigation.md explains the filter (nav/ekf.hpp).
+// validity bits) out at rate_hz, and TILLER_DATUM (datum_t: the frame's WGS84 origin) at the first
+// tick with a datum and then every second. docs/navigation.md explains the filter (nav/ekf.hpp).
 //
 // GNSS fixes are converted to local NED about the datum (datum: first_fix: the mean of fixes that
 // stayed consistent for datum_hold.hold_s, so a spurious first fix cannot set it, restarts
@@ -31,6 +32,7 @@
 #include <string>
 
 #include <GeographicLib/LocalCartesian.hpp>
+#include <tiller/datum_t.hpp>
 #include <tiller/gnss_fix_t.hpp>
 #include <tiller/heading_t.hpp>
 #include <tiller/imu_t.hpp>
@@ -83,6 +85,7 @@ class NavNode : public Node {
   double rate_var_[3] = {0, 0, 0};   // p q r (rad/s)^2
   GeographicLib::LocalCartesian datum_;
   bool have_datum_ = false;
+  TimeUs datum_sent_ = -1;  // TILLER_DATUM: at the first tick with a datum, then every second
   GeographicLib::LocalCartesian candidate_;  // the hold's first fix, its mean kept about it
   bool holding_ = false;
   TimeUs hold_since_ = 0;

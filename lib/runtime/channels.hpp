@@ -14,6 +14,7 @@ inline constexpr const char* kArmState = "TILLER_ARM_STATE";              // arm
 inline constexpr const char* kPath = "TILLER_PATH";                       // path_t
 inline constexpr const char* kMissionCommand = "TILLER_MISSION_COMMAND";  // mission_command_t
 inline constexpr const char* kOdometry = "TILLER_ODOMETRY";               // odometry_t
+inline constexpr const char* kDatum = "TILLER_DATUM";                     // datum_t
 inline constexpr const char* kGroundTruth = "TILLER_GROUND_TRUTH";        // odometry_t
 inline constexpr const char* kSimState = "TILLER_SIM_STATE";              // sim_state_t
 inline constexpr const char* kVelocitySetpoint = "TILLER_VELOCITY_SETPOINT";  // velocity_setpoint_t

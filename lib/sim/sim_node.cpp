@@ -194,7 +194,10 @@ SimNode::SimNode(const SimParams& params, const SimVehicle& v)
                         ") has no dynamics.wind_coefficients, so the wind would do nothing");
   }
   subscribe(channels::kEscOutput, &SimNode::on_esc_output);
-  if (p_.publish_odometry) advertise<odometry_t>(channels::kOdometry);  // else tiller-nav's
+  if (p_.publish_odometry) {  // else tiller-nav's, with its datum
+    advertise<odometry_t>(channels::kOdometry);
+    advertise<datum_t>(channels::kDatum);
+  }
   advertise<odometry_t>(channels::kGroundTruth);
   advertise<sim_state_t>(channels::kSimState);
   advertise<gnss_fix_t>(channels::kGnss);
@@ -382,6 +385,15 @@ void SimNode::publish_outputs(TimeUs now) {
     }
     fill_odometry(odom_, eta, nu, now);
     publish(channels::kOdometry, odom_);
+  }
+  if (p_.publish_odometry && due(next_datum_, kUsPerSecond)) {
+    datum_t d{};  // the local frame's origin, as the simulated GNSS has it
+    d.utime = now;
+    d.latitude = p_.sensors.gnss.datum_latitude_deg;
+    d.longitude = p_.sensors.gnss.datum_longitude_deg;
+    d.altitude = p_.sensors.gnss.datum_altitude_m;
+    d.source = datum_t::SOURCE_CONFIG;
+    publish(channels::kDatum, d);
   }
   if (due(next_state_, p_.sim_state_period_us)) {
     state_.utime = now;

@@ -4,6 +4,8 @@
 //   TILLER_ODOMETRY      pose NED + body FRD velocity over ground (with optional seeded noise),
 //   TILLER_GROUND_TRUTH  the same without noise,
 //   TILLER_SIM_STATE     eta, nu, nu_r, current, thrust per thruster,
+//   TILLER_DATUM         with its odometry, once a second: the NED origin's WGS84 point (the
+//                        sensors' gnss datum), as tiller-nav publishes its own,
 // each at its configured rate (a multiple of the step). With a sensors file (config/sim/
 // sensors_*.yaml, `sensors:` or --sensors) it also publishes every simulated sensor from the true
 // state on its driver's channel (TILLER_GNSS, _IMU, _HEADING, _PRESSURE, _POWER, _LEAK; NMEA to
@@ -28,6 +30,7 @@
 #include <cstdint>
 #include <string>
 
+#include <tiller/datum_t.hpp>
 #include <tiller/esc_output_t.hpp>
 #include <tiller/odometry_t.hpp>
 #include <tiller/sim_state_t.hpp>
@@ -142,7 +145,7 @@ class SimNode : public Node {
   std::array<double, sim::kMaxThrusters> commanded_{};
   bool started_ = false;
   TimeUs sim_time_ = 0;  // time the model state is at (whole steps)
-  TimeUs next_odom_ = 0, next_truth_ = 0, next_state_ = 0;
+  TimeUs next_odom_ = 0, next_truth_ = 0, next_state_ = 0, next_datum_ = 0;
   odometry_t odom_{}, truth_{};
   sim_state_t state_{};
   std::int64_t* rej_name_;

@@ -4,7 +4,8 @@
 //   USV (config/launch/sim_usv_cockpit.yaml): the page loads and shows every process healthy;
 //   a command from a page without the token is refused and counted; a broken mission file shows
 //   its line; arming asks for confirmation (dismissed: nothing happens); a mission file loaded
-//   and started from the page moves the boat along it.
+//   and started from the page moves the boat along it; a QGroundControl .plan uploaded from the
+//   page is drawn on the map (its points and fence) and flies on past its loiter to its next leg.
 //   ROV (config/launch/sim_rov_cockpit.yaml): an injected gamepad (navigator.getGamepads
 //   overridden by addInitScript) arms with centred sticks and flies the ROV forward; a hidden
 //   page gives neutral; closing the page with the stick held gives neutral within the mixer's
@@ -107,7 +108,7 @@ function cpuOf(parent, comm) {
 }
 
 const token = () => fs.readFileSync(path.join(src, 'keys/cockpit.token'), 'utf8').trim();
-const state = (page, expr) => page.evaluate(expr);
+const state = (page, expr, arg) => page.evaluate(expr, arg);
 // A button press through the DOM (the page re-renders 20 times a second; no pointer needed).
 const press = (page, id) => page.evaluate((i) => document.getElementById(i).click(), id);
 
@@ -192,6 +193,27 @@ async function usv(browser) {
     check(soak.length >= 8 && slope < HEAP_BOUND_MB, `the page's heap shows no growth trend (< ${HEAP_BOUND_MB} MB/min; ${(slope * 1024).toFixed(0)} KB/min)`);
     await press(page, 'release');
     await until(() => state(page, () => !st.msgs.TILLER_ARM_STATE.msg.armed), 3000, 'Release disarms');
+
+    // A QGroundControl plan uploaded from the page (lat/lon about the simulator's datum, a speed,
+    // a 2 s loiter, return home, an inclusion fence): the map draws it, and it flies leg by leg.
+    await page.setInputFiles('#file', path.join(src, 'test/cockpit/data/pond.plan'));
+    await until(async () => (await page.textContent('#reply')).includes('ok: mission_load: pond.plan: 5 items'), 3000, 'the .plan loads (5 items)');
+    await until(() => state(page, () => st.mission && st.mission.name === 'pond.plan' && st.mission.points.length === 4 &&
+                                        st.mission.fence.length === 1 && st.mission.fence[0].inclusion), 3000,
+                'the map has the plan: its 4 points and the inclusion fence');
+    check((await page.textContent('#mapinfo')).includes('plan pond.plan: 4 points, 1 fence shapes'), 'the map says what it shows');
+    const leg1 = await state(page, () => st.msgs.TILLER_PATH.msg.path_id);
+    page.once('dialog', (d) => d.accept());
+    await press(page, 'arm');
+    await until(() => state(page, () => st.msgs.TILLER_ARM_STATE.msg.armed), 3000, 'armed for the plan');
+    await press(page, 'start');
+    const tp = Date.now();
+    const leg2 = await until(() => state(page, (id) => st.msgs.TILLER_PATH.msg.path_id === id + 1, leg1), 45000,
+                             'after the loiter the plan goes on to its next leg');
+    if (leg2) notes.push(`.plan from the page: leg 2 began ${((Date.now() - tp) / 1000).toFixed(1)} s after Start (leg 1 ~14 m at 1 m/s, a 2 s loiter)`);
+    await page.screenshot({ path: path.join(out, '04-usv-plan.png') });
+    await press(page, 'release');
+    await until(() => state(page, () => !st.msgs.TILLER_ARM_STATE.msg.armed), 3000, 'Release disarms after the plan');
     await ctx.close();
   } finally {
     await stop(stack);

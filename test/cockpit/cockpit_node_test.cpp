@@ -3,16 +3,21 @@
 #include <gtest/gtest.h>
 
 #include <cmath>
+#include <fstream>
 #include <nlohmann/json.hpp>
+#include <sstream>
 
 #include <tiller/arm_request_t.hpp>
 #include <tiller/arm_state_t.hpp>
 #include <tiller/controller_mode_t.hpp>
+#include <tiller/datum_t.hpp>
 #include <tiller/gnss_fix_t.hpp>
 #include <tiller/heartbeat_t.hpp>
 #include <tiller/manual_demand_t.hpp>
 #include <tiller/mission_command_t.hpp>
 #include <tiller/odometry_t.hpp>
+#include <tiller/path_progress_t.hpp>
+#include <tiller/path_speed_t.hpp>
 #include <tiller/path_t.hpp>
 #include <tiller/thruster_test_t.hpp>
 
@@ -370,19 +375,120 @@ TEST(CockpitNode, MissionLoadStartAndErrorsWithLineAndKey) {
   EXPECT_EQ(r.node.counter_value("rejected.mission.file"), 1);
   r.send(1, {{"type", "mission_load"}, {"name", "x.txt"}, {"text", "1,2"}}, 3'100'000);
   EXPECT_FALSE(r.last_reply()["ok"].get<bool>());
-  // A mission with items: refused, not flown as its bare waypoints (docs/missions.md).
-  r.send(1,
-         {{"type", "mission_load"},
-          {"name", "items.yaml"},
-          {"text", "items:\n  - [5, 0]\n  - {do: loiter, north: 5, east: 5, time_s: 9}\n"}},
-         3'150'000);
-  const json items = r.last_reply();
-  EXPECT_FALSE(items["ok"].get<bool>());
-  EXPECT_NE(items["error"].get<std::string>().find("flies with tiller-mission"), std::string::npos);
   // Abort stops the repeats.
   r.send(1, {{"type", "mission"}, {"command", "abort"}}, 3'200'000);
   const std::size_t n = r.bus.on<path_t>(channels::kPath).size();
   r.node.tick(5'000'000);
+  EXPECT_EQ(r.bus.on<path_t>(channels::kPath).size(), n);
+}
+
+template <class Msg>
+void deliver(CockpitNode& node, const char* channel, const Msg& m, TimeUs now) {
+  std::vector<std::uint8_t> buf(static_cast<std::size_t>(m.getEncodedSize()));
+  m.encode(buf.data(), 0, static_cast<int>(buf.size()));
+  node.deliver(channel, buf.data(), static_cast<int>(buf.size()), now);
+}
+
+std::string file_text(const std::string& rel) {
+  std::ifstream in(std::string(TILLER_SOURCE_DIR) + "/" + rel);
+  std::stringstream ss;
+  ss << in.rdbuf();
+  return ss.str();
+}
+
+// A QGroundControl plan uploaded from the page: in lat/lon, so refused until the vehicle's datum
+// is known; then converted about that datum, flown leg by leg as tiller-mission flies it (the
+// speeds before each leg's path, the next leg when the follower says this one is complete, the
+// 10 s loiter timed), and its points, home and fence sent to every page's map.
+TEST(CockpitNode, AnUploadedPlanWithItemsIsFlownLegByLegAndDrawn) {
+  Rig r;
+  const std::string plan = file_text("config/missions/harbour.plan");
+  r.send(1, {{"type", "mission_load"}, {"name", "harbour.plan"}, {"text", plan}}, 100'000);
+  EXPECT_FALSE(r.last_reply()["ok"].get<bool>());
+  EXPECT_NE(r.last_reply()["error"].get<std::string>().find("datum"), std::string::npos)
+      << r.last_reply().dump();
+  EXPECT_TRUE(r.bus.on<path_t>(channels::kPath).empty());
+
+  datum_t d{};  // the plan's home: its metres are plan_flight_test's
+  d.utime = 200'000;
+  d.latitude = 63.44;
+  d.longitude = 10.4;
+  d.altitude = 2.0;
+  deliver(r.node, channels::kDatum, d, 200'000);
+  odometry_t o{};
+  o.utime = 200'000;
+  o.valid = odometry_t::VALID_POSITION;
+  deliver(r.node, channels::kOdometry, o, 200'000);
+  r.send(1, {{"type", "mission_load"}, {"name", "harbour.plan"}, {"text", plan}}, 300'000);
+  ASSERT_TRUE(r.last_reply()["ok"].get<bool>()) << r.last_reply().dump();
+  EXPECT_NE(r.last_reply()["detail"].get<std::string>().find("7 items"), std::string::npos)
+      << r.last_reply().dump();
+  // The map's frame: every item's point about the datum, home, the inclusion fence.
+  json mf;
+  for (const auto& f : r.frames)
+    if (f.second["type"] == "mission") mf = f.second;
+  ASSERT_FALSE(mf.is_null());
+  ASSERT_EQ(mf["points"].size(), 5u);  // 4 waypoints and loiter, and home for the return
+  EXPECT_NEAR(mf["points"][0][0].get<double>(), 30.0, 0.01);
+  EXPECT_NEAR(mf["points"][0][1].get<double>(), 0.0, 0.01);
+  EXPECT_NEAR(mf["points"][2][0].get<double>(), 10.0, 0.01);  // the loiter (10, 25)
+  EXPECT_NEAR(mf["points"][2][1].get<double>(), 25.0, 0.01);
+  EXPECT_NEAR(mf["home"][0].get<double>(), 0.0, 1e-6);
+  ASSERT_EQ(mf["fence"].size(), 1u);
+  EXPECT_TRUE(mf["fence"][0]["inclusion"].get<bool>());
+  EXPECT_EQ(mf["fence"][0]["polygon"].size(), 4u);
+  EXPECT_NEAR(mf["fence"][0]["polygon"][0][0].get<double>(), -15.0, 0.05);
+  EXPECT_NEAR(mf["datum"]["lat"].get<double>(), 63.44, 1e-12);
+
+  // Leg 1: from the vehicle (0, 0) to the loiter point, at 1.0 m/s; its speeds before its path.
+  auto paths = r.bus.on<path_t>(channels::kPath);
+  auto speeds = r.bus.on<path_speed_t>(channels::kPathSpeed);
+  ASSERT_EQ(paths.size(), 1u);
+  ASSERT_EQ(speeds.size(), 1u);
+  const std::int64_t leg1 = paths[0].path_id;
+  EXPECT_EQ(speeds[0].path_id, leg1);
+  ASSERT_EQ(paths[0].n_waypoints, 4);
+  EXPECT_NEAR(paths[0].waypoints[0].position[0], 0.0, 1e-9);
+  EXPECT_NEAR(paths[0].waypoints[3].position[0], 10.0, 0.01);
+  EXPECT_NEAR(paths[0].waypoints[3].position[1], 25.0, 0.01);
+  EXPECT_EQ(speeds[0].speed[0], 1.0);
+  std::size_t first_speed = 0, first_path = 0;
+  for (std::size_t i = 0; i < r.bus.events.size(); ++i) {
+    if (!first_speed && r.bus.events[i].channel == channels::kPathSpeed) first_speed = i + 1;
+    if (!first_path && r.bus.events[i].channel == channels::kPath) first_path = i + 1;
+  }
+  EXPECT_LT(first_speed, first_path);
+  // Progress on another path or not complete: nothing; complete: the loiter's 10 s, then leg 2.
+  path_progress_t pr{};
+  pr.utime = 20'000'000;
+  pr.path_id = leg1 + 5;
+  pr.complete = true;
+  deliver(r.node, channels::kPathProgress, pr, 20'000'000);
+  pr.path_id = leg1;
+  pr.complete = false;
+  deliver(r.node, channels::kPathProgress, pr, 20'000'000);
+  pr.complete = true;
+  deliver(r.node, channels::kPathProgress, pr, 20'000'000);
+  for (TimeUs t = 20'050'000; t < 29'950'000; t += 50'000) r.node.tick(t);
+  paths = r.bus.on<path_t>(channels::kPath);
+  for (const auto& p : paths) EXPECT_EQ(p.path_id, leg1);  // repeats of leg 1 only
+  for (TimeUs t = 29'950'000; t <= 30'200'000; t += 50'000) r.node.tick(t);
+  paths = r.bus.on<path_t>(channels::kPath);
+  EXPECT_EQ(paths.back().path_id, leg1 + 1);
+  EXPECT_NEAR(paths.back().waypoints[0].position[0], 10.0, 0.01);  // from the loiter point
+  EXPECT_NEAR(paths.back().waypoints[0].position[1], 25.0, 0.01);
+  EXPECT_EQ(r.bus.on<path_speed_t>(channels::kPathSpeed).back().speed[0], 1.5);
+  // A page that opens now is shown the plan after its hello.
+  const std::size_t before = r.frames.size();
+  r.node.client_opened(2, 30'300'000);
+  ASSERT_GE(r.frames.size(), before + 2);
+  EXPECT_EQ(r.frames[before].second["type"], "hello");
+  EXPECT_EQ(r.frames[before + 1].second["type"], "mission");
+  // Abort ends it: no more legs or repeats.
+  r.send(1, {{"type", "mission"}, {"command", "abort"}}, 30'400'000);
+  const std::size_t n = r.bus.on<path_t>(channels::kPath).size();
+  deliver(r.node, channels::kPathProgress, pr, 31'000'000);
+  for (TimeUs t = 30'450'000; t < 40'000'000; t += 50'000) r.node.tick(t);
   EXPECT_EQ(r.bus.on<path_t>(channels::kPath).size(), n);
 }
 

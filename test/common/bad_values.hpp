@@ -21,6 +21,7 @@
 #include <tiller/arm_request_t.hpp>
 #include <tiller/arm_state_t.hpp>
 #include <tiller/controller_mode_t.hpp>
+#include <tiller/datum_t.hpp>
 #include <tiller/esc_output_t.hpp>
 #include <tiller/gnss_fix_t.hpp>
 #include <tiller/heading_t.hpp>
@@ -328,6 +329,17 @@ inline path_speed_t good(const std::string&, TimeUs t, const InputContext&) {
   m.path_id = 7;
   m.n_segments = 2;
   m.speed = {1.0, 0.5};
+  return m;
+}
+
+template <>
+inline datum_t good(const std::string&, TimeUs t, const InputContext&) {
+  datum_t m{};
+  m.utime = t;
+  m.latitude = 59.437;
+  m.longitude = 10.6612;
+  m.altitude = 39.8;
+  m.source = datum_t::SOURCE_CONFIG;
   return m;
 }
 
@@ -792,6 +804,17 @@ inline std::vector<BadValue<path_progress_t>> bad_values() {
 }
 
 template <>
+inline std::vector<BadValue<datum_t>> bad_values() {
+  return {
+      {"latitude 91", kOR, [](datum_t& m) { m.latitude = 91.0; }},
+      {"longitude -181", kOR, [](datum_t& m) { m.longitude = -181.0; }},
+      {"latitude NaN", kNF, [](datum_t& m) { m.latitude = NAN; }},
+      {"altitude inf", kNF, [](datum_t& m) { m.altitude = INFINITY; }},
+      {"source 7", kOR, [](datum_t& m) { m.source = 7; }},
+  };
+}
+
+template <>
 inline std::vector<BadValue<path_speed_t>> bad_values() {
   return {
       {"speed -1 m/s", kOR, [](path_speed_t& m) { m.speed[1] = -1.0; }},
@@ -922,6 +945,7 @@ inline std::vector<TypeInputs> all_type_inputs() {
           type_inputs<path_t>(),
           type_inputs<path_progress_t>(),
           type_inputs<path_speed_t>(),
+          type_inputs<datum_t>(),
           type_inputs<thruster_command_t>(),
           type_inputs<thruster_test_t>(),
           type_inputs<pid_terms_t>(),

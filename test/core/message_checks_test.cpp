@@ -290,6 +290,18 @@ TEST(MessageChecks, ProgressCommandsEscJoystick) {
                     {"count -1", [](auto& m) { m.n_segments = -1; }, "n_segments.range"},
                 });
 
+  datum_t dt{};
+  dt.latitude = 59.437;
+  dt.longitude = 10.6612;
+  dt.altitude = 39.8;
+  run_table(dt, std::vector<Case<datum_t>>{
+                    {"latitude 90.5", [](auto& m) { m.latitude = 90.5; }, "latitude.range"},
+                    {"latitude NaN", [](auto& m) { m.latitude = kNan; }, "latitude.range"},
+                    {"longitude 180.5", [](auto& m) { m.longitude = 180.5; }, "longitude.range"},
+                    {"altitude inf", [](auto& m) { m.altitude = kInf; }, "altitude.range"},
+                    {"source 2", [](auto& m) { m.source = 2; }, "source.range"},
+                });
+
   thruster_command_t tc{};
   tc.source = wrench_t::SOURCE_MANUAL_DEMAND;
   tc.n_thrusters = 2;

@@ -17,6 +17,7 @@
 #include <tiller/arm_request_t.hpp>
 #include <tiller/arm_state_t.hpp>
 #include <tiller/controller_mode_t.hpp>
+#include <tiller/datum_t.hpp>
 #include <tiller/esc_bus_status_t.hpp>
 #include <tiller/esc_output_t.hpp>
 #include <tiller/esc_telemetry_t.hpp>
@@ -238,6 +239,17 @@ TEST(Messages, SetpointProgressStation) {
   const auto rp = round_trip(p);
   EXPECT_EQ(rp.cross_track_error, -0.4);
   EXPECT_EQ(rp.skipped_waypoints, 1);
+
+  datum_t dm{};
+  dm.utime = 17;
+  dm.latitude = 59.437;
+  dm.longitude = 10.6612;
+  dm.altitude = 39.8;
+  dm.source = datum_t::SOURCE_FIRST_FIX;
+  const auto rdm = round_trip(dm);
+  EXPECT_EQ(rdm.latitude, 59.437);
+  EXPECT_EQ(rdm.longitude, 10.6612);
+  EXPECT_EQ(rdm.source, datum_t::SOURCE_FIRST_FIX);
 
   path_speed_t ps{};
   ps.utime = 16;

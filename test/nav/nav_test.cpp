@@ -15,6 +15,7 @@
 #include "nav/ekf.hpp"
 #include "nav/nav_node.hpp"
 #include "nav/nav_params.hpp"
+#include "runtime/channels.hpp"
 #include "synthetic.hpp"
 
 namespace tiller::nav {
@@ -464,6 +465,58 @@ TEST(NavNode, FirstFixIsTheDatumAndRunsReplayIdentically) {
   EXPECT_EQ(oa.pose_covariance, ob.pose_covariance);
   // About the first (noisy) fix: within a few sigma of the truth's track, not of its origin.
   EXPECT_LT(std::hypot(oa.position[0] - sa.truth().n, oa.position[1] - sa.truth().e), 8.0);
+}
+
+struct DatumBus : Bus {
+  std::vector<datum_t> got;
+  void publish(std::string_view channel, const std::uint8_t* data, int size) override {
+    if (channel != channels::kDatum) return;
+    datum_t d{};
+    ASSERT_EQ(d.decode(data, 0, size), size);
+    got.push_back(d);
+  }
+};
+
+// TILLER_DATUM: a configured datum at the first tick, then every second, SOURCE_CONFIG; a
+// first_fix datum nothing before it is set, then the set point, SOURCE_FIRST_FIX.
+TEST(NavNode, PublishesItsDatumOnceItIsSet) {
+  NavNode fixed(usv_params());
+  DatumBus bus;
+  fixed.attach(&bus);
+  for (TimeUs t = 0; t <= 2'500'000; t += fixed.tick_period()) fixed.tick(t);
+  ASSERT_EQ(bus.got.size(), 3u);  // 0, 1 and 2 s
+  EXPECT_EQ(bus.got[0].utime, 0);
+  EXPECT_EQ(bus.got[1].utime, 1'000'000);
+  EXPECT_EQ(bus.got[0].latitude, test::kLat0);
+  EXPECT_EQ(bus.got[0].longitude, test::kLon0);
+  EXPECT_EQ(bus.got[0].source, datum_t::SOURCE_CONFIG);
+
+  NavNode first(load_nav_file(std::string(TILLER_SOURCE_DIR) + "/config/nav/usv.yaml"));
+  DatumBus bus2;
+  first.attach(&bus2);
+  Synthetic syn({{30, 0.05}}, 4);
+  TimeUs set_at = -1;
+  for (TimeUs t = 0; t <= 20'000'000; t += 10'000) {
+    syn.advance_to(t);
+    if (t % first.tick_period() == 0) {
+      const bool had = first.has_datum();
+      first.tick(t);
+      if (!had) {
+        EXPECT_TRUE(bus2.got.empty()) << "a datum published before it was set";
+      }
+      if (had && set_at < 0) set_at = t;
+    }
+    first.on_imu(syn.imu(t), t);
+    if (t % 100'000 == 0) first.on_heading(syn.heading(t), t);
+    if (t % 200'000 == 0) first.on_gnss(syn.gnss(t), t);
+  }
+  ASSERT_TRUE(first.has_datum());
+  ASSERT_FALSE(bus2.got.empty());
+  EXPECT_EQ(bus2.got[0].utime, set_at);  // the first tick after the datum was set
+  EXPECT_EQ(bus2.got[0].latitude, first.datum_latitude());
+  EXPECT_EQ(bus2.got[0].longitude, first.datum_longitude());
+  EXPECT_EQ(bus2.got[0].source, datum_t::SOURCE_FIRST_FIX);
+  EXPECT_NEAR(bus2.got[0].latitude, test::kLat0, 1e-4);  // within ~10 m of the truth's origin
 }
 
 // A boat in a 0.3 m/s current toward the north-east, turning now and then so that both of the

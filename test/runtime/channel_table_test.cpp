@@ -166,11 +166,13 @@ std::vector<Program> programs() {
   add("tiller-mission",
       std::make_unique<mission::MissionNode>(
           mission::load_mission_file(kRoot + "/config/missions/harbour.plan"), 1, kUsPerSecond));
-  add("tiller-cockpit", std::make_unique<cockpit::CockpitNode>(
-                            cockpit::load_cockpit_file(kRoot + "/config/cockpit/usv_sim.yaml").node,
-                            "0123456789abcdef", [](const std::string&, const std::string&) {
-                              return mission::Mission{};
-                            }));
+  add("tiller-cockpit",
+      std::make_unique<cockpit::CockpitNode>(
+          cockpit::load_cockpit_file(kRoot + "/config/cockpit/usv_sim.yaml").node,
+          "0123456789abcdef",
+          [](const std::string&, const std::string&, const std::optional<mission::GeoPoint>&) {
+            return mission::Mission{};
+          }));
   static i2c::FakeBus i2c;  // the sensor drivers' nodes on an empty fake bus
   add("tiller-pressure",
       std::make_unique<sensors::PressureNode>(

@@ -17,6 +17,7 @@
 #include <tiller/arm_state_t.hpp>
 #include <tiller/controller_mode_t.hpp>
 #include <tiller/count_guard.hpp>
+#include <tiller/datum_t.hpp>
 #include <tiller/esc_bus_status_t.hpp>
 #include <tiller/esc_output_t.hpp>
 #include <tiller/esc_telemetry_t.hpp>
@@ -168,6 +169,12 @@ std::map<std::string, std::function<void()>> checks() {
     check<path_speed_t>([](auto& m) {
       m.n_segments = 3;
       m.speed = {0, 1.0, 1.5};
+    });
+  };
+  c["datum_t"] = [] {
+    check<datum_t>([](auto& m) {
+      m.latitude = 59.437;
+      m.source = datum_t::SOURCE_FIRST_FIX;
     });
   };
   c["path_t"] = [] {

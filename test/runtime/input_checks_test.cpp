@@ -220,12 +220,15 @@ std::vector<NodeCase> node_cases() {
                    }});
   }
   for (const auto& f : shipped("cockpit")) {
-    out.push_back({"CockpitNode", "tiller-cockpit " + rel(f), [f](InputContext& ctx) {
-                     ctx.thrusters = {"port", "starboard"};  // it shows any vehicle's
-                     return std::make_unique<cockpit::CockpitNode>(
-                         cockpit::load_cockpit_file(f).node, "0123456789abcdef",
-                         [](const std::string&, const std::string&) { return mission::Mission{}; });
-                   }});
+    out.push_back(
+        {"CockpitNode", "tiller-cockpit " + rel(f), [f](InputContext& ctx) {
+           ctx.thrusters = {"port", "starboard"};  // it shows any vehicle's
+           return std::make_unique<cockpit::CockpitNode>(
+               cockpit::load_cockpit_file(f).node, "0123456789abcdef",
+               [](const std::string&, const std::string&, const std::optional<mission::GeoPoint>&) {
+                 return mission::Mission{};
+               });
+         }});
   }
   for (const auto& f : shipped("sensors")) {
     if (fs::path(f).filename().string().rfind("imu", 0) != 0) continue;

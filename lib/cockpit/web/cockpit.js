@@ -2,7 +2,7 @@
 // at /ws (docs/reference/cockpit-api.md): state frames in, commands (with the token) out.
 'use strict';
 const $ = (id) => document.getElementById(id);
-const st = { msgs: {}, health: [], hello: null, track: [], t: 0, pilot: null };
+const st = { msgs: {}, health: [], hello: null, track: [], t: 0, pilot: null, mission: null };
 let ws = null;
 let token = sessionStorage.getItem('tiller-token') || '';
 let nextId = 1;
@@ -54,6 +54,7 @@ function connect() {
     if (m.type === 'hello') { st.hello = m; return; }
     if (m.type === 'reply') { if (m.command !== 'gamepad' || !m.ok) showReply(m); return; }
     if (m.type === 'state' || m.type === 'snapshot') onState(m);
+    if (m.type === 'mission') st.mission = m;  // the loaded plan: drawn under the path
   };
 }
 
@@ -207,6 +208,14 @@ function drawMap() {
   const o = msg('TILLER_ODOMETRY');
   const pts = [];
   if (path) for (const w of path.waypoints) pts.push([w.position[0], w.position[1]]);
+  const plan = st.mission;
+  if (plan) {
+    for (const p of plan.points) pts.push(p);
+    for (const f of plan.fence) {
+      if (f.circle) { pts.push([f.centre[0] - f.radius, f.centre[1] - f.radius], [f.centre[0] + f.radius, f.centre[1] + f.radius]); }
+      else for (const v of f.polygon) pts.push(v);
+    }
+  }
   for (const p of st.track) pts.push(p);
   if (o) pts.push([o.position[0], o.position[1]]);
   if (!pts.length) { g.fillStyle = '#667'; g.fillText('no odometry yet', 10, 20); return; }
@@ -222,6 +231,7 @@ function drawMap() {
   for (let e = Math.floor((ce - W / 2 / s) / step) * step; e < ce + W / 2 / s; e += step) { g.beginPath(); g.moveTo(X(e), 0); g.lineTo(X(e), H); g.stroke(); }
   for (let n = Math.floor((cn - H / 2 / s) / step) * step; n < cn + H / 2 / s; n += step) { g.beginPath(); g.moveTo(0, Y(n)); g.lineTo(W, Y(n)); g.stroke(); }
   g.fillStyle = '#556'; g.fillText(`grid ${step} m`, 6, H - 6);
+  if (plan) drawPlan(g, plan, X, Y, s);
   const pr = msg('TILLER_PATH_PROGRESS');
   if (path && path.n_waypoints) {
     g.strokeStyle = '#c9a227'; g.setLineDash([6, 4]); g.beginPath();
@@ -247,7 +257,34 @@ function drawMap() {
     g.fillStyle = '#ffffff'; g.beginPath(); g.moveTo(0, -12); g.lineTo(7, 9); g.lineTo(-7, 9); g.closePath(); g.fill();
     g.restore();
   }
-  $('mapinfo').textContent = o ? `vehicle at N ${fmt(o.position[0], 1)} E ${fmt(o.position[1], 1)} m` : '';
+  $('mapinfo').textContent = (o ? `vehicle at N ${fmt(o.position[0], 1)} E ${fmt(o.position[1], 1)} m` : '') +
+    (plan ? ` · plan ${plan.name}: ${plan.points.length} points, ${plan.fence.length} fence shapes` : '');
+}
+
+// The loaded plan (the cockpit's "mission" frame, local NED m): the fence (inclusion green,
+// exclusion red), every item's point in order (grey, numbered), home (H) and rally points (R).
+function drawPlan(g, plan, X, Y, s) {
+  for (const f of plan.fence) {
+    g.strokeStyle = f.inclusion ? '#3cb371' : '#e5534b'; g.lineWidth = 2;
+    g.fillStyle = f.inclusion ? 'rgba(60,179,113,0.06)' : 'rgba(229,83,75,0.15)';
+    g.beginPath();
+    if (f.circle) g.arc(X(f.centre[1]), Y(f.centre[0]), f.radius * s, 0, 2 * Math.PI);
+    else f.polygon.forEach(([n, e], i) => (i ? g.lineTo : g.moveTo).call(g, X(e), Y(n)));
+    g.closePath(); g.fill(); g.stroke(); g.lineWidth = 1;
+  }
+  if (plan.points.length) {
+    g.strokeStyle = '#6b7280'; g.beginPath();
+    plan.points.forEach(([n, e], i) => (i ? g.lineTo : g.moveTo).call(g, X(e), Y(n)));
+    g.stroke();
+    g.fillStyle = '#9aa3ad';
+    plan.points.forEach(([n, e], i) => g.fillText(String(i + 1), X(e) - 12, Y(n) + 14));
+  }
+  const mark = (p, letter, colour) => {
+    g.fillStyle = colour; g.beginPath(); g.arc(X(p[1]), Y(p[0]), 7, 0, 2 * Math.PI); g.fill();
+    g.fillStyle = '#111'; g.fillText(letter, X(p[1]) - 3, Y(p[0]) + 4);
+  };
+  if (plan.home) mark(plan.home, 'H', '#f0f0f0');
+  for (const r of plan.rally) mark(r, 'R', '#a78bfa');
 }
 
 // ---- gamepad: the page is a pilot source; it sends its axes every period while visible
