@@ -6,6 +6,7 @@
 // once and exits after the START (or after --start-wait-s without arming).
 // --start-std-m M (and --start-settle-s S) waits, publishing nothing, until TILLER_ODOMETRY is
 // valid with its horizontal position 1-sigma <= M m, held for S s (mission/start_gate.hpp).
+// --datum-from-vehicle: a mission in lat/lon waits for TILLER_DATUM and is converted about it.
 // --command pause|resume|abort|release sends that operator command (and, for release, a disarm
 // request) and exits. `tiller-mission survey POLYGON.geojson --spacing 5 --angle 30` writes a
 // lawnmower plan (survey_cmd.cpp). It has no config file (--config is refused): the mission is
@@ -72,6 +73,10 @@ int main(int argc, char** argv) {
        {"repeat-s", "S", "repeat period, s >= 0; 0 = publish once and exit", "1"},
        {"start-wait-s", "S", "with --repeat-s 0: how long to wait for arming, s", "3"},
        {"no-arm", "", "do not send the arm request (START still waits for arming)", ""},
+       {"datum-from-vehicle", "",
+        "a mission in lat/lon waits for the vehicle's datum (TILLER_DATUM from tiller-nav) and "
+        "is converted about it, not about its home",
+        ""},
        {"command", "NAME", "send pause, resume, abort or release and exit", ""}},
       false};  // no config file: the mission is --mission FILE
   for (auto& o : mission::start_gate_options()) spec.options.push_back(std::move(o));
@@ -130,7 +135,10 @@ int main(int argc, char** argv) {
     if (gate.enabled)
       std::cout << "tiller-mission: waiting for the estimate: position 1-sigma <= "
                 << gate.max_position_std_m << " m for " << gate.settle_s << " s\n";
-    mission::MissionNode node(m, id, period, !args.flag("no-arm"), gate);
+    const bool from_vehicle = args.flag("datum-from-vehicle");
+    if (from_vehicle && m.geodetic())
+      std::cout << "tiller-mission: waiting for the vehicle's datum (TILLER_DATUM)\n";
+    mission::MissionNode node(m, id, period, !args.flag("no-arm"), gate, from_vehicle);
     ex.add(node);
     if (repeat > 0) return ex.run();
     StopWhenStarted stopper(node, ex, wall_time_us() + from_seconds(wait));

@@ -129,6 +129,25 @@ Mission load_mission(const config::Value& root, const std::string& base_dir) {
   return m;
 }
 
+namespace {
+// After localise(): the waypoints from the items, the start at home unless given, the checks.
+void derive(Mission& m, const std::string& file) {
+  if (!m.home && m.start && !m.start_is_home) m.home_point = *m.start;
+  m.waypoints.clear();
+  for (const auto& it : m.items) {
+    if (it.has_point) m.waypoints.push_back(it.point);
+    // Home is where a return goes without rally points (with them: the nearest, at run time).
+    if (it.kind == ItemKind::kReturnHome && m.rally.empty()) m.waypoints.push_back(m.home_point);
+  }
+  if (!m.start || m.start_is_home) {
+    m.start = m.home_point;
+    m.start->has_heading = false;
+    m.start_is_home = true;
+  }
+  check_items(m, file);
+}
+}  // namespace
+
 void finish_items(Mission& m, const std::string& file, const std::optional<GeoPoint>& datum) {
   if (m.items.empty()) return;
   if (m.geodetic()) {
@@ -139,18 +158,13 @@ void finish_items(Mission& m, const std::string& file, const std::optional<GeoPo
                           "lon}, or a .plan's plannedHomePosition) or a datum to place it");
     localise(m, *d);
   }
-  if (!m.home && m.start) m.home_point = *m.start;
-  m.waypoints.clear();
-  for (const auto& it : m.items) {
-    if (it.has_point) m.waypoints.push_back(it.point);
-    // Home is where a return goes without rally points (with them: the nearest, at run time).
-    if (it.kind == ItemKind::kReturnHome && m.rally.empty()) m.waypoints.push_back(m.home_point);
-  }
-  if (!m.start) {
-    m.start = m.home_point;
-    m.start->has_heading = false;
-  }
-  check_items(m, file);
+  derive(m, file);
+}
+
+void relocalise(Mission& m, const GeoPoint& datum, const std::string& file) {
+  if (m.items.empty() || !m.geodetic()) return;
+  localise(m, datum);
+  derive(m, file);
 }
 
 Mission load_mission_file(const std::string& path, const std::optional<GeoPoint>& datum) {

@@ -79,6 +79,7 @@ struct Mission {
   std::string description;
   bool is_translation = false;
   std::optional<MissionPoint> start;  // has_heading = whether a start heading was given
+  bool start_is_home = false;         // start not given: home (moves with a new datum)
   double time_limit_s = 600;
   double station_keep_s = 0;
   std::vector<MissionPoint> waypoints;  // with items: every item's point, in item order
@@ -105,6 +106,9 @@ Mission load_mission(const config::Value& root, const std::string& base_dir);
 // A mission with items: localised (about `datum`, else its home), waypoints from the items, its
 // start at home when it names none, then check_items (mission/fence.hpp). Plain paths unchanged.
 void finish_items(Mission& m, const std::string& file, const std::optional<GeoPoint>& datum);
+// A finished mission in lat/lon converted again, about another datum (the vehicle's TILLER_DATUM):
+// every point, the waypoints and a start at home move; checked again. Metres-only: unchanged.
+void relocalise(Mission& m, const GeoPoint& datum, const std::string& file);
 std::vector<MissionPoint> load_csv_points(const std::string& path);
 
 // The path message for a mission (path_id identifies it: a new id restarts the follower).

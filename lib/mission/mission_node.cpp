@@ -6,6 +6,7 @@
 #include <tiller/path_speed_t.hpp>
 
 #include <algorithm>
+#include <exception>
 
 #include "core/message_checks.hpp"
 #include "runtime/channels.hpp"
@@ -13,7 +14,7 @@
 namespace tiller::mission {
 
 MissionNode::MissionNode(const Mission& m, std::int64_t path_id, TimeUs repeat_period_us, bool arm,
-                         const StartGateParams& gate)
+                         const StartGateParams& gate, bool datum_from_vehicle)
     : Node("mission", gate.enabled || !m.items.empty() ? std::min(repeat_period_us, kGatePollUs)
                                                        : repeat_period_us),
       repeat_us_(repeat_period_us),
@@ -35,6 +36,12 @@ MissionNode::MissionNode(const Mission& m, std::int64_t path_id, TimeUs repeat_p
     fence_breaches_ = &counter("fence.breaches");
   }
   if (gate.enabled || seq_) subscribe(channels::kOdometry, &MissionNode::on_odometry);
+  if (datum_from_vehicle && mission_ && mission_->geodetic()) {
+    waiting_datum_ = true;
+    subscribe(channels::kDatum, &MissionNode::on_datum);
+    datum_ignored_ = &counter("datum.later_ignored");
+    set_health(heartbeat_t::STATE_OK, "waiting for the vehicle's datum (TILLER_DATUM)");
+  }
   advertise<path_t>(channels::kPath);
   advertise<controller_mode_t>(channels::kMode);
   advertise<mission_command_t>(channels::kMissionCommand);
@@ -57,6 +64,30 @@ void MissionNode::on_arm_state(const arm_state_t& m, TimeUs now) {
   c.source = "mission";
   publish(channels::kMissionCommand, c);
   start_sent_ = true;
+}
+
+void MissionNode::on_datum(const datum_t& m, TimeUs now) {
+  if (checks::check(m) != nullptr) {
+    reject(counter("rejected.datum.invalid"));  // made on first use
+    return;
+  }
+  const GeoPoint d{m.latitude, m.longitude, m.altitude};
+  if (!waiting_datum_) {
+    if (d.lat_deg != datum_used_.lat_deg || d.lon_deg != datum_used_.lon_deg) ++*datum_ignored_;
+    return;
+  }
+  try {
+    relocalise(*mission_, d, name_);
+  } catch (const std::exception& e) {
+    set_health(heartbeat_t::STATE_DEGRADED, e.what());  // keeps waiting, publishes nothing
+    return;
+  }
+  datum_used_ = d;
+  waiting_datum_ = false;
+  seq_ = std::make_unique<Sequencer>(*mission_);
+  if (!have_position_) position_ = mission_->start ? *mission_->start : mission_->home_point;
+  set_health(heartbeat_t::STATE_OK, "publishing " + name_ + " about the vehicle's datum");
+  (void)now;
 }
 
 void MissionNode::on_odometry(const odometry_t& m, TimeUs now) {
@@ -115,6 +146,7 @@ void MissionNode::act(Sequencer::Action a, TimeUs now) {
 }
 
 void MissionNode::on_tick(TimeUs now) {
+  if (waiting_datum_) return;  // nothing until the mission is in the vehicle's frame
   if (began_at_ < 0) {
     if (!gate_.open(now)) {
       // The heartbeat (1 Hz) says why; its status is rewritten at most once a second.

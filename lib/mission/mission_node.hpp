@@ -22,9 +22,14 @@
 // run-time fence). Hold is an operator ABORT, stop an operator RELEASE (the mixer disarms), each
 // sent once (command ids from path_id + kCommandIdOffset); the heartbeat's status says what the
 // mission does (DEGRADED after a fence breach, counted in fence.breaches).
+// With datum_from_vehicle, a mission in lat/lon publishes nothing until the first TILLER_DATUM
+// (datum_t, from tiller-nav: the frame its odometry is in), then is converted about it
+// (mission::relocalise) and goes on as above; a later, different datum is ignored and counted in
+// datum.later_ignored (the mission keeps the frame it started in). A mission in metres ignores it.
 #pragma once
 
 #include <tiller/arm_state_t.hpp>
+#include <tiller/datum_t.hpp>
 #include <tiller/odometry_t.hpp>
 #include <tiller/path_progress_t.hpp>
 #include <tiller/path_speed_t.hpp>
@@ -43,7 +48,8 @@ namespace tiller::mission {
 class MissionNode : public Node {
  public:
   MissionNode(const Mission& m, std::int64_t path_id, TimeUs repeat_period_us, bool arm = true,
-              const StartGateParams& gate = {});
+              const StartGateParams& gate = {}, bool datum_from_vehicle = false);
+  bool waiting_for_datum() const { return waiting_datum_; }
   void on_tick(TimeUs now) override;
   int sent() const { return sent_; }
   bool started() const { return start_sent_; }
@@ -55,6 +61,7 @@ class MissionNode : public Node {
 
  private:
   void on_arm_state(const arm_state_t& m, TimeUs now);
+  void on_datum(const datum_t& m, TimeUs now);
   void on_odometry(const odometry_t& m, TimeUs now);
   void on_progress(const path_progress_t& m, TimeUs now);
   void act(Sequencer::Action a, TimeUs now);
@@ -89,6 +96,10 @@ class MissionNode : public Node {
   std::int64_t* fence_breaches_ = nullptr;
   path_speed_t speed_{};
   std::string shown_status_;  // the sequencer's status last put in the heartbeat
+  // datum_from_vehicle: a lat/lon mission waits for TILLER_DATUM, then is converted about it.
+  bool waiting_datum_ = false;
+  GeoPoint datum_used_;
+  std::int64_t* datum_ignored_ = nullptr;
 };
 
 }  // namespace tiller::mission

@@ -2,6 +2,8 @@
 #include <gtest/gtest.h>
 #include <tiller/arm_request_t.hpp>
 #include <tiller/arm_state_t.hpp>
+#include <tiller/datum_t.hpp>
+#include <tiller/path_t.hpp>
 
 #include <cstdio>
 #include <fstream>
@@ -10,6 +12,7 @@
 #include <sys/wait.h>
 
 #include "core/angles.hpp"
+#include "mission/geo.hpp"
 #include "mission/mission.hpp"
 #include "mission/mission_node.hpp"
 #include "runtime/channels.hpp"
@@ -117,6 +120,54 @@ TEST(MissionNode, PublishesPathThenModeAndArmRequest) {
   EXPECT_EQ(arms[0].boot_nonce, 77);
   EXPECT_EQ(arms[0].utime, 500'000);
   EXPECT_EQ(node.sent(), 2);  // at 0 s and 1 s
+}
+
+// --datum-from-vehicle: the harbour plan publishes nothing until TILLER_DATUM, then flies in the
+// vehicle's frame: with the datum 20 m south and 10 m west of the plan's home, every point is
+// 20 m further north and 10 m further east than about home. A later, other datum is ignored and
+// counted; a bad one is refused and counted. Without the flag the plan is about its home.
+TEST(MissionNode, APlanInLatLonWaitsForTheVehiclesDatum) {
+  const auto m = load_mission_file(src("config/missions/harbour.plan"));
+  ASSERT_TRUE(m.geodetic());
+  MissionNode node(m, 100, kUsPerSecond, false, {}, true);
+  LockstepExecutor ex(0);
+  ex.add(node);
+  std::vector<path_t> paths;
+  ex.observe([&](const std::string& ch, const std::uint8_t* d, int n, TimeUs) {
+    if (ch == channels::kPath && paths.emplace_back().decode(d, 0, n) < 0) paths.pop_back();
+  });
+  ex.run_until(2'000'000);
+  EXPECT_TRUE(paths.empty());
+  EXPECT_TRUE(node.waiting_for_datum());
+  const LocalFrame home(*m.home);
+  const GeoPoint south_west = home.to_geo(-20, -10);
+  datum_t d{};
+  d.utime = 2'100'000;
+  d.latitude = 91;  // refused: nothing changes
+  ex.inject(channels::kDatum, d, 2'100'000);
+  d.latitude = south_west.lat_deg;
+  d.longitude = south_west.lon_deg;
+  d.altitude = m.home->alt_m;
+  d.source = datum_t::SOURCE_FIRST_FIX;
+  ex.inject(channels::kDatum, d, 2'200'000);
+  ex.run_until(2'500'000);
+  EXPECT_FALSE(node.waiting_for_datum());
+  EXPECT_EQ(node.counter_value("rejected.datum.invalid"), 1);
+  ASSERT_FALSE(paths.empty());
+  // Leg 1 from home (no odometry: the start is home), through (30, 0) and (30, 25) to the loiter.
+  const auto& w = paths.front().waypoints;
+  ASSERT_EQ(w.size(), 4u);
+  EXPECT_NEAR(w[0].position[0], 20.0, 0.01);  // home, now 20 m north of the datum
+  EXPECT_NEAR(w[0].position[1], 10.0, 0.01);
+  EXPECT_NEAR(w[1].position[0], 50.0, 0.01);
+  EXPECT_NEAR(w[1].position[1], 10.0, 0.01);
+  EXPECT_NEAR(w[3].position[0], 30.0, 0.01);
+  EXPECT_NEAR(w[3].position[1], 35.0, 0.01);
+  d.latitude += 0.001;
+  ex.inject(channels::kDatum, d, 3'000'000);
+  ex.run_until(3'500'000);
+  EXPECT_EQ(node.counter_value("datum.later_ignored"), 1);
+  EXPECT_NEAR(paths.back().waypoints[1].position[0], 50.0, 0.01);
 }
 
 // tiller-mission's command line: a bad --repeat-s / --path-id names the flag and what was
