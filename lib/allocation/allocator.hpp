@@ -92,6 +92,10 @@ class Allocator {
   bool allocate_manual(const Wrench& stick, AllocationResult& out) const;
   // Every command 0.
   void neutral(AllocationResult& out) const;
+  // The supply (battery) voltage for thrusters whose curve depends on it (ThrustCurve's voltage
+  // tables, `curve: t200`): thrust -> command from then on. Limits are unchanged. No allocation.
+  void set_supply_voltage(double volts);
+  bool voltage_dependent() const;
 
   int size() const { return n_; }
   Strategy strategy() const { return strategy_; }

@@ -14,6 +14,16 @@ namespace tiller {
 
 using namespace allocation_detail;
 
+void Allocator::set_supply_voltage(double volts) {
+  for (auto& t : vehicle_.thrusters) t.curve.set_supply_voltage(volts);
+}
+
+bool Allocator::voltage_dependent() const {
+  for (const auto& t : vehicle_.thrusters)
+    if (t.curve.voltage_dependent()) return true;
+  return false;
+}
+
 void Allocator::neutral(AllocationResult& out) const {
   out.manual = false;
   out.demanded.setZero();

@@ -123,6 +123,8 @@ MixerNode::MixerNode(const MixerParams& params, const Vehicle& vehicle)
   subscribe(channels::kMissionCommand, &MixerNode::on_mission_command);
   subscribe(channels::kThrusterTest, &MixerNode::on_thruster_test);
   subscribe(channels::kVehicleStatus, &MixerNode::on_vehicle_status);
+  subscribe(channels::kPower, &MixerNode::on_power);
+  supply_stale_ = &counter("supply_voltage.stale");
   accept_only_from(channels::kThrusterTest, p_.test_senders);
   advertise<thruster_command_t>(channels::kThrusterCommand);
   advertise<allocation_status_t>(channels::kAllocationStatus);
@@ -360,7 +362,23 @@ void MixerNode::request_disarm(const char* why, TimeUs now) {
   publish(channels::kArmRequest, r);
 }
 
+void MixerNode::on_power(const power_t& m, TimeUs now) {
+  if (!on_time(m.utime, now, kSupplyStaleUs, "power")) return;
+  if (checks::check(m) != nullptr) {
+    reject(counter("rejected.power.invalid"));  // made on first use
+    return;
+  }
+  if (!alloc_->voltage_dependent()) return;  // checked and counted all the same
+  alloc_->set_supply_voltage(m.voltage);
+  power_rx_ = now;
+}
+
 void MixerNode::on_tick(TimeUs now) {
+  if (power_rx_ >= 0 && now - power_rx_ > kSupplyStaleUs) {
+    alloc_->set_supply_voltage(1e9);  // clamped to the tables' highest voltage
+    power_rx_ = -1;
+    ++*supply_stale_;
+  }
   output(now);
 }
 

@@ -27,6 +27,11 @@
 // TILLER_VEHICLE_STATUS has an event holding or an action beyond WARN (no freshness limit, as in
 // tiller-velocity-pid: a failsafe that stops reporting does not end its claim; a status older
 // than the event limit by its utime is refused).
+// Supply voltage: with thrusters whose curve depends on it (`curve: t200`, ThrustCurve's voltage
+// tables), each checked TILLER_POWER (power_t) sets the voltage thrust is turned into commands
+// at; with none for kSupplyStaleUs (2 s), or none yet, the table's highest voltage (the least
+// thrust for a command: the boat gets less thrust than asked, never more), counted in
+// supply_voltage.stale. Other vehicles ignore TILLER_POWER.
 // Source choice: see select_source() -- the one place that decides.
 #pragma once
 
@@ -40,6 +45,7 @@
 #include <tiller/arm_state_t.hpp>
 #include <tiller/manual_demand_t.hpp>
 #include <tiller/mission_command_t.hpp>
+#include <tiller/power_t.hpp>
 #include <tiller/thruster_command_t.hpp>
 #include <tiller/thruster_test_t.hpp>
 #include <tiller/vehicle_status_t.hpp>
@@ -109,6 +115,8 @@ class MixerNode : public Node {
   void on_mission_command(const mission_command_t& m, TimeUs now);
   void on_thruster_test(const thruster_test_t& m, TimeUs now);
   void on_vehicle_status(const vehicle_status_t& m, TimeUs now);
+  void on_power(const power_t& m, TimeUs now);
+  static constexpr TimeUs kSupplyStaleUs = 2'000'000;
 
   const Allocator& allocator() const { return *alloc_; }
   const AllocationResult& last_result() const { return result_; }
@@ -130,6 +138,8 @@ class MixerNode : public Node {
 
   MixerParams p_;
   std::unique_ptr<Allocator> alloc_;
+  TimeUs power_rx_ = -1;  // the latest TILLER_POWER used (-1: none, or gone stale)
+  std::int64_t* supply_stale_ = nullptr;
   Freshness manual_fresh_, arb_fresh_, arm_fresh_;
   Wrench manual_ = Wrench::Zero();
   WrenchInput velocity_, station_, rov_, failsafe_;

@@ -69,7 +69,7 @@ struct DynamicsParams {
   Vector3 center_of_buoyancy_m = Vector3::Zero();  // r_b
   // First-order lag of every thruster's thrust, seconds (0 = none).
   double thruster_time_constant_s = 0.1;
-  // Optional `simulator_thrust_curve`: a lib/vehicle preset name (t200_12v, t200_poly) that
+  // Optional `simulator_thrust_curve`: a lib/vehicle preset name (t200_12v, t200_16v, ...) that
   // the simulator uses for every thruster instead of the thrusters' own `curve`. For a vehicle
   // whose mixer keeps a simplified curve on purpose (seed 000's linear 30 N, so its a/b
   // arithmetic is reproduced exactly) while the motors are T200s. Empty: the thrusters' curves.

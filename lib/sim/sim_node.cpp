@@ -259,6 +259,10 @@ void SimNode::on_esc_output(const esc_output_t& m, TimeUs now) {
     reject(*rej_range_);
     return;
   }
+  // A thrust curve that depends on the supply voltage (curve: t200) follows the simulated
+  // battery's bus voltage when the sensors are on (no effect on other curves; no allocation).
+  if (sensors_.enabled())
+    for (auto& th : vehicle_.thrusters) th.curve.set_supply_voltage(sensors_.battery().voltage());
   std::array<double, sim::kMaxThrusters> target{};
   for (int c = 0; c < n; ++c) {
     const auto k = static_cast<std::size_t>(c);

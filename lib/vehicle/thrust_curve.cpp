@@ -5,6 +5,8 @@
 #include <sstream>
 #include <stdexcept>
 
+#include "vehicle/t200_tables.hpp"
+
 namespace tiller {
 namespace {
 
@@ -72,6 +74,33 @@ ThrustCurve ThrustCurve::table(std::vector<double> command, std::vector<double> 
   return c;
 }
 
+ThrustCurve ThrustCurve::voltage_table(std::vector<double> command, std::vector<double> thrust_lo,
+                                       double v_lo, std::vector<double> thrust_hi, double v_hi) {
+  if (!(v_lo > 0) || !(v_hi > v_lo) || !std::isfinite(v_hi))
+    bad("voltage table: expected 0 < v_lo < v_hi volts");
+  table(command, thrust_lo);  // each validated as a table on its own
+  ThrustCurve c = table(command, thrust_hi);
+  c.t_lo_ = std::move(thrust_lo);
+  c.t_hi_ = std::move(thrust_hi);
+  c.v_lo_ = v_lo;
+  c.v_hi_ = v_hi;
+  c.volts_ = v_hi;
+  c.description_ = "voltage table(" + std::to_string(c.u_.size()) + " points, " + num(v_lo) + ".." +
+                   num(v_hi) + " V)";
+  return c;
+}
+
+void ThrustCurve::set_supply_voltage(double volts) {
+  if (t_lo_.empty() || !std::isfinite(volts)) return;
+  volts_ = std::clamp(volts, v_lo_, v_hi_);
+  const double w = (volts_ - v_lo_) / (v_hi_ - v_lo_);
+  for (std::size_t k = 0; k < t_.size(); ++k) t_[k] = (1 - w) * t_lo_[k] + w * t_hi_[k];
+  for (std::size_t i = 0; i + 1 < u_.size(); ++i)
+    du_dt_[i] = t_[i + 1] > t_[i] ? (u_[i + 1] - u_[i]) / (t_[i + 1] - t_[i]) : 0.0;
+  t_min_ = t_.front();
+  t_max_ = t_.back();
+}
+
 ThrustCurve ThrustCurve::polynomial(std::vector<double> coefficients) {
   if (coefficients.size() < 2) bad("polynomial curve: at least coefficients c0 and c1");
   for (double v : coefficients)
@@ -136,16 +165,32 @@ ThrustCurve ThrustCurve::preset(std::string_view name) {
     c.description_ = "t200_12v";
     return c;
   }
+  if (name == "t200" || name == "t200_16v" || name == "t200_14v8") {
+    std::vector<double> u, lo, hi;
+    for (std::size_t i = 0; i < t200::kPulseUs.size(); ++i) {
+      u.push_back((t200::kPulseUs[i] - 1500.0) / 400.0);
+      lo.push_back(t200::kKgf12V[i] * kKgf);
+      hi.push_back(t200::kKgf16V[i] * kKgf);
+    }
+    ThrustCurve c = voltage_table(u, lo, 12.0, hi, 16.0);
+    c.description_ = std::string(name);
+    if (name == "t200") return c;
+    c.set_supply_voltage(name == "t200_16v" ? 16.0 : 14.8);
+    c.t_lo_.clear();  // fixed at that voltage
+    c.t_hi_.clear();
+    return c;
+  }
   if (name == "t200_poly") {
     ThrustCurve c = polynomial({0, 8.9, 0, 176.0, 0, -404.1, 0, 389.9, 0, -140.3});
     c.description_ = "t200_poly";
     return c;
   }
-  bad("unknown thrust curve preset '" + std::string(name) + "' (known: t200_12v, t200_poly)");
+  bad("unknown thrust curve preset '" + std::string(name) +
+      "' (known: t200_12v, t200_14v8, t200_16v, t200, t200_poly)");
 }
 
 std::vector<std::string> ThrustCurve::preset_names() {
-  return {"t200_12v", "t200_poly"};
+  return {"t200_12v", "t200_14v8", "t200_16v", "t200", "t200_poly"};
 }
 
 double ThrustCurve::poly(double u) const {

@@ -63,7 +63,8 @@ ThrustCurve load_curve(const config::Value& v) {
     if (v.is_scalar()) return ThrustCurve::preset(v.as_string());
     if (!v.is_map() || v.keys().size() != 1)
       v.fail(
-          "a preset name (t200_12v, t200_poly) or a map with one of linear, quadratic, "
+          "a preset name (t200_12v, t200_14v8, t200_16v, t200, t200_poly) or a map with one of "
+          "linear, quadratic, "
           "table, polynomial");
     const std::string kind = v.keys().front();
     const config::Value p = v.at(kind);

@@ -157,8 +157,9 @@ TEST(SimNode, Seed000FullThrottleGivesTheT200Thrust) {
     (void)sim::load_dynamics(v);
     FAIL() << "unknown curve accepted";
   } catch (const config::Error& e) {
-    EXPECT_NE(std::string(e.what()).find("simulator_thrust_curve: expected a thrust curve preset "
-                                         "name (t200_12v, t200_poly), got 't300'"),
+    EXPECT_NE(std::string(e.what()).find(
+                  "simulator_thrust_curve: expected a thrust curve preset "
+                  "name (t200_12v, t200_14v8, t200_16v, t200, t200_poly), got 't300'"),
               std::string::npos)
         << e.what();
   }
