@@ -11,6 +11,7 @@ namespace tiller::sensors {
 
 PowerParams load_power_params(const config::Value& root) {
   PowerParams p;
+  if (root.string_or("device", "ina226") != "ina226") root.at("device").fail("ina226 or ads1115");
   p.bus = root.string_or("bus", p.bus);
   p.address = static_cast<std::uint8_t>(root.integer_or("address", p.address, 0x40, 0x4F));
   p.shunt_ohm = root.number("shunt_ohm", {1e-5, 10});

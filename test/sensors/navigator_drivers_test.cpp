@@ -1,14 +1,24 @@
 // The Navigator's sensor drivers against their datasheets, through the fake buses:
 // BMP280 (the datasheet's compensation example), ICM-20602 (set-up sequence, ids, conversions,
-// self-test), AK09915 (ids, byte order, flags), ADS1115 (config word, codes, conversions).
+// self-test), AK09915 (ids, byte order, flags), ADS1115 (config word, codes, conversions), and
+// tiller-power's ADS1115 node with the Power Sense Module's scaling.
 #include <gtest/gtest.h>
 
 #include <cerrno>
 #include <cmath>
 #include <numbers>
 
+#include <string>
+#include <vector>
 #include "i2c/fake_bus.hpp"
+
+#include <tiller/heartbeat_t.hpp>
+#include <tiller/power_t.hpp>
+
+#include "core/config.hpp"
+#include "runtime/channels.hpp"
 #include "sensors/ads1115.hpp"
+#include "sensors/ads1115_power_node.hpp"
 #include "sensors/ak09915.hpp"
 #include "sensors/bmp280.hpp"
 #include "sensors/fake/navigator_models.hpp"
@@ -225,6 +235,82 @@ TEST(Ads1115, ConfigWordCodesAndConversions) {
   ASSERT_EQ(dev.read(raw), 0);
   EXPECT_EQ(raw, 8000);  // 1.0 V / 4.096 V * 32768
   EXPECT_DOUBLE_EQ(ads1115::volts(raw, 1), 1.0);
+}
+
+struct PowerBus : Bus {
+  std::vector<power_t> got;
+  heartbeat_t hb{};
+  void publish(std::string_view channel, const std::uint8_t* data, int size) override {
+    if (channel.rfind("TILLER_HEARTBEAT", 0) == 0) {
+      ASSERT_EQ(hb.decode(data, 0, size), size);
+      return;
+    }
+    if (channel != channels::kPower) return;
+    power_t m{};
+    ASSERT_EQ(m.decode(data, 0, size), size);
+    got.push_back(m);
+  }
+};
+
+// The Navigator's ADS1115 with the Power Sense Module at 16.0 V and 10.0 A: AIN2 = 16 / 11 V,
+// AIN3 = 0.330 + 10 / 37.8788 V. By hand at +-4.096 V (125 uV per code): AIN2 11636 codes ->
+// 1.4545 V x 11 = 15.9995 V; AIN3 4752 codes -> (0.594 - 0.330) x 37.8788 = 10.000 A. Voltage and
+// current alternate, one power_t every second tick; 1 s at 10 A is 2.78 mAh. The device gone: a
+// FAULT naming it after fault_after ticks, nothing published; back: sampling again.
+TEST(Ads1115PowerNode, PowerSenseModuleScalingAndAMissingDevice) {
+  const auto p = load_ads1115_power_params(config::Value::parse(
+      "device: ads1115\nvoltage_channel: 2\ncurrent_channel: 3\nrate_hz: 20\n", "p.yaml"));
+  i2c::FakeBus bus{"/dev/i2c-1"};
+  fake::Ads1115Model chip;
+  chip.input_v[2] = 16.0 / 11.0;
+  chip.input_v[3] = 0.330 + 10.0 / 37.8788;
+  bus.attach(ads1115::kAddress, &chip);
+  Ads1115PowerNode node(p, bus);
+  PowerBus out;
+  node.attach(&out);
+  TimeUs t = 0;
+  for (; t <= 1'050'000; t += 50'000) node.tick(t);
+  ASSERT_TRUE(node.device_ready());
+  ASSERT_EQ(out.got.size(), 10u);  // at 0.10, 0.20, ..., 1.00 s
+  EXPECT_EQ(out.got[0].utime, 100'000);
+  EXPECT_NEAR(out.got[0].voltage, 15.9995, 1e-4);
+  EXPECT_NEAR(out.got[0].current, 10.000, 0.005);
+  EXPECT_NEAR(out.got[0].power, 15.9995 * out.got[0].current, 1e-9);
+  EXPECT_EQ(out.got[0].monitor, "ads1115@/dev/i2c-1:0x48");
+  EXPECT_NEAR(out.got.back().consumed_charge, 10.0 * 0.9 / 3600, 1e-5);  // 0.1 .. 1.0 s
+  EXPECT_EQ(node.counter_value("samples"), 10);
+  EXPECT_EQ(node.counter_value("conversion.not_ready"), 0);
+  bus.detach(ads1115::kAddress);
+  const std::size_t before = out.got.size();
+  for (; t <= 2'600'000; t += 50'000) node.tick(t);
+  EXPECT_FALSE(node.device_ready());
+  EXPECT_EQ(out.got.size(), before);
+  EXPECT_EQ(out.hb.state, heartbeat_t::STATE_FAULT);
+  EXPECT_NE(out.hb.status.find("ads1115 on /dev/i2c-1 at 0x48"), std::string::npos)
+      << out.hb.status;
+  bus.attach(ads1115::kAddress, &chip);
+  for (; t <= 5'000'000; t += 50'000) node.tick(t);
+  EXPECT_TRUE(node.device_ready());
+  EXPECT_GT(out.got.size(), before);
+  EXPECT_EQ(out.hb.state, heartbeat_t::STATE_OK) << out.hb.status;
+}
+
+TEST(Ads1115PowerNode, ConfigErrorsNameTheKey) {
+  const auto err = [](const std::string& text) {
+    try {
+      load_ads1115_power_params(config::Value::parse(text, "p.yaml"));
+    } catch (const config::Error& e) {
+      return std::string(e.what());
+    }
+    return std::string("accepted");
+  };
+  EXPECT_NE(err("voltage_channel: 2\ncurrent_channel: 2\n").find("current_channel"),
+            std::string::npos);
+  EXPECT_NE(err("full_scale_v: 3.3\n").find("full_scale_v"), std::string::npos);
+  EXPECT_NE(err("data_rate_sps: 100\n").find("data_rate_sps"), std::string::npos);
+  EXPECT_NE(err("data_rate_sps: 8\nrate_hz: 20\n").find("rate_hz"), std::string::npos);
+  EXPECT_NE(err("shunt_ohm: 0.1\n").find("shunt_ohm"), std::string::npos);  // an INA226 key
+  EXPECT_EQ(err("device: ads1115\n"), "accepted");
 }
 
 }  // namespace
