@@ -51,6 +51,7 @@
 #include "nav/nav_params.hpp"
 #include "runtime/channels.hpp"
 #include "runtime/lockstep.hpp"
+#include "sensors/ads1115_power_node.hpp"
 #include "sensors/gnss_node.hpp"
 #include "sensors/gpio.hpp"
 #include "sensors/imu_node.hpp"
@@ -247,6 +248,15 @@ std::vector<NodeCase> node_cases() {
   }
   for (const auto& f : shipped("sensors")) {
     if (fs::path(f).filename().string().rfind("power", 0) != 0) continue;
+    const auto root = config::Value::load_file(f);
+    if (root.string_or("device", "ina226") == "ads1115") {
+      out.push_back({"Ads1115PowerNode", "tiller-power " + rel(f), [f](InputContext&) {
+                       return std::make_unique<sensors::Ads1115PowerNode>(
+                           sensors::load_ads1115_power_params(config::Value::load_file(f)),
+                           fake_bus());
+                     }});
+      continue;
+    }
     out.push_back({"PowerNode", "tiller-power " + rel(f), [f](InputContext&) {
                      return std::make_unique<sensors::PowerNode>(sensors::load_power_file(f),
                                                                  fake_bus());

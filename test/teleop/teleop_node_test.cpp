@@ -61,8 +61,8 @@ TEST(Shaping, NormalisesJsUnits) {
 }
 
 TEST(Presets, AllLoad) {
-  for (const char* f :
-       {"extreme3dpro_seed000.yaml", "extreme3dpro_seed001.yaml", "gamepad_xbox.yaml"}) {
+  for (const char* f : {"extreme3dpro_seed000.yaml", "extreme3dpro_seed001.yaml",
+                        "gamepad_xbox.yaml", "gamepad_blueboat.yaml"}) {
     EXPECT_NO_THROW(load_teleop_file(config_path(f))) << f;
   }
 }
