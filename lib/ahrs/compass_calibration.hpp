@@ -12,7 +12,7 @@
 // smallest over the largest spread of the corrected samples along the three principal axes: a
 // rotation about one axis only gives ~0 and no fit).
 // Used by tiller-navigator --calibrate-compass; the result is stored in the vehicle's navigator
-// config (compass_calibration: {offset: [3], matrix: [9 row-major]}).
+// config (compass_calibration: {offset_ut: [3], matrix: [9 row-major], field_ut}).
 #pragma once
 
 #include <array>

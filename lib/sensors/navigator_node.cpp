@@ -154,8 +154,16 @@ bool NavigatorNode::read_compass(TimeUs now, ahrs::Vec3& field) {
     return false;
   }
   const ahrs::Vec3 body = to_body(p_.compass_mount, m.field_ut);
+  if (recording_ && recorded_.size() < recorded_.capacity())
+    recorded_.push_back({body[0], body[1], body[2]});
   field = p_.compass_calibration.apply(body);
   return true;
+}
+
+void NavigatorNode::record_compass(std::size_t max_samples) {
+  recorded_.clear();
+  recorded_.reserve(max_samples);
+  recording_ = true;
 }
 
 void NavigatorNode::on_tick(TimeUs now) {

@@ -15,8 +15,10 @@
 // orientation not valid. Time comes only from the executor; no allocation in a steady tick.
 #pragma once
 
+#include <array>
 #include <cstdint>
 #include <string>
+#include <vector>
 
 #include <tiller/heading_t.hpp>
 #include <tiller/imu_t.hpp>
@@ -67,6 +69,11 @@ class NavigatorNode : public Node {
   bool imu_up() const { return imu_up_; }
   bool compass_up() const { return compass_up_; }
   const ahrs::Mahony& filter() const { return ahrs_; }
+  // Compass recording (tiller-navigator --calibrate-compass): from now on keep every good
+  // compass sample in body axes before the calibration (uT), up to `max_samples` (reserved here,
+  // so the ticks still allocate nothing); recorded() is what ahrs::fit_ellipsoid takes.
+  void record_compass(std::size_t max_samples);
+  const std::vector<std::array<double, 3>>& recorded() const { return recorded_; }
 
  protected:
   void on_tick(TimeUs now) override;
@@ -94,6 +101,8 @@ class NavigatorNode : public Node {
       *headings_, *rejected_imu_, *rejected_heading_;
   std::string status_;
   int health_key_ = -1;
+  bool recording_ = false;
+  std::vector<std::array<double, 3>> recorded_;
 };
 
 }  // namespace tiller::sensors

@@ -5,10 +5,12 @@
 #include <gtest/gtest.h>
 
 #include <cmath>
+#include <cstdio>
 #include <numbers>
 
 #include <tiller/heartbeat_t.hpp>
 
+#include "ahrs/compass_calibration.hpp"
 #include "ahrs/mahony.hpp"
 #include "i2c/fake_bus.hpp"
 #include "sensors/fake/navigator_models.hpp"
@@ -127,6 +129,39 @@ TEST(NavigatorNode, MissingImuIsAFaultNamingTheDevice) {
   r.spi.attach(&r.imu);
   r.run(n, 3'010'000, 5'000'000);
   EXPECT_FALSE(r.out.imu.empty());
+}
+
+// --calibrate-compass's recording: the board turned through attitudes on a spiral over the
+// sphere, the chip reading a field distorted by hard iron (12, -7, 4) uT and soft iron (gains
+// 1.15, 0.9, 1.0 on the chip's axes). The recorded body-axis samples fit back to that offset in
+// body axes (chip (x, y, z) is body (y, x, -z): body (-7, 12, -4) uT) within 0.3 uT, with the
+// 0.15 uT quantisation; recording stops at its capacity and the ticks allocate nothing more.
+TEST(NavigatorNode, ARecordedRotationFitsTheHardAndSoftIron) {
+  Rig r;
+  NavigatorNode n(r.p, r.spi, r.i2c);
+  n.attach(&r.out);
+  n.record_compass(600);
+  const double hard[3] = {12, -7, 4}, gain[3] = {1.15, 0.9, 1.0};
+  const int k_max = 800;
+  for (int k = 0; k < k_max; ++k) {
+    // A direction on a spiral from pole to pole: the field as the chip sees it, 50 uT.
+    const double zc = -1 + 2.0 * (k + 0.5) / k_max, rho = std::sqrt(1 - zc * zc);
+    const double az = k * 2.399963;  // the golden angle
+    const double b[3] = {50 * rho * std::cos(az), 50 * rho * std::sin(az), 50 * zc};
+    for (int i = 0; i < 3; ++i) r.compass.field_ut[i] = gain[i] * b[i] + hard[i];
+    const TimeUs t = static_cast<TimeUs>(k) * n.tick_period();
+    n.tick(t);
+  }
+  ASSERT_EQ(n.recorded().size(), 600u);  // capped at what was reserved
+  const ahrs::FitResult f = ahrs::fit_ellipsoid(n.recorded());
+  ASSERT_TRUE(f.ok) << f.why;
+  EXPECT_NEAR(f.cal.offset[0], -7, 0.3);
+  EXPECT_NEAR(f.cal.offset[1], 12, 0.3);
+  EXPECT_NEAR(f.cal.offset[2], -4, 0.3);
+  EXPECT_LT(f.relative_residual, 0.01);
+  std::printf("compass fit from %zu samples: offset (%.2f, %.2f, %.2f) uT, residual %.3f %%\n",
+              n.recorded().size(), f.cal.offset[0], f.cal.offset[1], f.cal.offset[2],
+              100 * f.relative_residual);
 }
 
 }  // namespace
