@@ -25,8 +25,14 @@ NavigatorParams load_navigator_params(const config::Value& root) {
   p.spi_speed_hz = static_cast<std::uint32_t>(
       root.integer_or("spi_speed_hz", p.spi_speed_hz, 100'000, 10'000'000));
   p.i2c = root.string_or("i2c", p.i2c);
-  p.compass_address =
-      static_cast<std::uint8_t>(root.integer_or("compass_address", p.compass_address, 0x0C, 0x0F));
+  p.compass_mmc5983 = root.choice_or("compass", "ak09915", {"ak09915", "mmc5983"}) == "mmc5983";
+  if (p.compass_mmc5983) {
+    p.compass_address = static_cast<std::uint8_t>(
+        root.integer_or("compass_address", mmc5983::kAddress, 0x30, 0x30));
+  } else {
+    p.compass_address = static_cast<std::uint8_t>(
+        root.integer_or("compass_address", p.compass_address, 0x0C, 0x0F));
+  }
   const auto rate = root.integer_or("rate_hz", 100, 10, 200);
   if (1000 % rate != 0) root.at("rate_hz").fail("a divisor of 1000 in 10..200 (e.g. 50, 100, 200)");
   p.rate_hz = static_cast<double>(rate);
@@ -81,9 +87,11 @@ NavigatorNode::NavigatorNode(const NavigatorParams& p, spi::Transport& spi, i2c:
       i2c_(i2c),
       imu_dev_(spi, p.imu),
       compass_dev_(i2c, p.compass_address, static_cast<int>(p.rate_hz) >= 100 ? 100 : 50),
+      mmc_dev_(i2c, p.compass_address, static_cast<int>(p.rate_hz) >= 100 ? 100 : 50),
       imu_health_("icm20602 on " + spi.name(), p.retry_period, p.fault_after),
-      compass_health_("ak09915 on " + i2c.name() + " at " + hex(p.compass_address), p.retry_period,
-                      p.fault_after),
+      compass_health_(std::string(p.compass_mmc5983 ? "mmc5983" : "ak09915") + " on " + i2c.name() +
+                          " at " + hex(p.compass_address),
+                      p.retry_period, p.fault_after),
       ahrs_(p.filter) {
   advertise<imu_t>(p.imu_channel);
   advertise<heading_t>(p.heading_channel);
@@ -124,20 +132,23 @@ void NavigatorNode::set_up(TimeUs now) {
     }
   }
   if (!compass_up_ && compass_health_.may_try(now)) {
-    const int err = compass_dev_.start();
+    const int err = p_.compass_mmc5983 ? mmc_dev_.start() : compass_dev_.start();
     compass_up_ = err == 0;
     if (!compass_up_) {
       ++*init_failures_;
-      compass_health_.down(
-          now, err == EPROTO ? 0 : err,
-          err == EPROTO ? "WIA reads " + hex(compass_dev_.wia(), 4) + ", not 0x4810" : "no answer");
+      const std::string wrong =
+          p_.compass_mmc5983 ? "product id reads " + hex(mmc_dev_.product_id()) + ", not 0x30"
+                             : "WIA reads " + hex(compass_dev_.wia(), 4) + ", not 0x4810";
+      compass_health_.down(now, err == EPROTO ? 0 : err, err == EPROTO ? wrong : "no answer");
     }
   }
 }
 
 bool NavigatorNode::read_compass(TimeUs now, ahrs::Vec3& field) {
   if (!compass_up_) return false;
-  const int err = retry_once(*retries_, [&] { return compass_dev_.read(mag_burst_); });
+  const int err = retry_once(*retries_, [&] {
+    return p_.compass_mmc5983 ? mmc_dev_.read(mmc_burst_) : compass_dev_.read(mag_burst_);
+  });
   if (err != 0) {
     ++*bus_errors_;
     if (compass_health_.failed(now)) {
@@ -147,13 +158,21 @@ bool NavigatorNode::read_compass(TimeUs now, ahrs::Vec3& field) {
     return false;
   }
   compass_health_.succeeded();
-  const ak09915::Sample m = ak09915::convert(mag_burst_);
-  if (!m.data_ready) return false;
-  if (m.overflow) {
-    ++*mag_overflow_;
-    return false;
+  double chip[3];
+  if (p_.compass_mmc5983) {
+    const mmc5983::Sample m = mmc5983::convert(mmc_burst_);
+    if (!m.data_ready) return false;
+    for (int i = 0; i < 3; ++i) chip[i] = m.field_ut[i];
+  } else {
+    const ak09915::Sample m = ak09915::convert(mag_burst_);
+    if (!m.data_ready) return false;
+    if (m.overflow) {
+      ++*mag_overflow_;
+      return false;
+    }
+    for (int i = 0; i < 3; ++i) chip[i] = m.field_ut[i];
   }
-  const ahrs::Vec3 body = to_body(p_.compass_mount, m.field_ut);
+  const ahrs::Vec3 body = to_body(p_.compass_mount, chip);
   if (recording_ && recorded_.size() < recorded_.capacity())
     recorded_.push_back({body[0], body[1], body[2]});
   field = p_.compass_calibration.apply(body);

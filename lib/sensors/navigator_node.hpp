@@ -1,4 +1,5 @@
-// tiller-navigator's logic: the Blue Robotics Navigator's ICM-20602 (SPI) and AK09915 (I2C)
+// tiller-navigator's logic: the Blue Robotics Navigator's ICM-20602 (SPI) and AK09915 (I2C; or the
+// MMC5983MA of newer boards, `compass: mmc5983`, sensors/mmc5983.hpp)
 // through the AHRS (ahrs/mahony.hpp) -> imu_t on TILLER_IMU (body FRD rates in rad/s, specific
 // force in m/s^2, orientation body -> NED) and heading_t on TILLER_HEADING (SOURCE_AHRS), one
 // sample a tick at rate_hz.
@@ -31,6 +32,7 @@
 #include "sensors/bno055.hpp"
 #include "sensors/device_health.hpp"
 #include "sensors/icm20602.hpp"
+#include "sensors/mmc5983.hpp"
 #include "spi/transport.hpp"
 
 namespace tiller::config {
@@ -43,8 +45,9 @@ struct NavigatorParams {
   std::string spi = "/dev/spidev1.0";
   std::uint32_t spi_speed_hz = 1'000'000;
   std::string i2c = "/dev/i2c-1";
-  std::uint8_t compass_address = ak09915::kAddress;
-  double rate_hz = 100;  // 10..200, a divisor of the ICM-20602's 1 kHz
+  bool compass_mmc5983 = false;  // `compass: mmc5983` (newer boards) instead of the AK09915
+  std::uint8_t compass_address = ak09915::kAddress;  // the MMC5983's default: 0x30
+  double rate_hz = 100;                              // 10..200, a divisor of the ICM-20602's 1 kHz
   icm20602::Config imu;
   bno055::Mount mount;          // ICM-20602 chip axes -> body FRD
   bno055::Mount compass_mount;  // AK09915 chip axes -> body FRD
@@ -89,12 +92,14 @@ class NavigatorNode : public Node {
   i2c::Transport& i2c_;
   icm20602::Device imu_dev_;
   ak09915::Device compass_dev_;
+  mmc5983::Device mmc_dev_;
   DeviceHealth imu_health_, compass_health_;
   bool imu_up_ = false, compass_up_ = false;
   ahrs::Mahony ahrs_;
   TimeUs last_sample_ = INT64_MIN, aligned_at_ = INT64_MIN;
   icm20602::Burst burst_{};
   ak09915::Burst mag_burst_{};
+  mmc5983::Burst mmc_burst_{};
   imu_t imu_{};
   heading_t heading_{};
   std::int64_t *retries_, *bus_errors_, *init_failures_, *not_ready_, *mag_overflow_, *samples_,

@@ -3,6 +3,7 @@
 // under 50 us.
 //   BM_Icm20602ReadConvert: one 15-byte SPI burst (INT_STATUS + data) -> rad/s, m/s^2, degC;
 //   BM_Ak09915ReadConvert: one 9-byte I2C read (ST1..ST2) -> uT;
+//   BM_Mmc5983ReadConvert: one 9-byte I2C read (Xout0..Status) -> uT;
 //   BM_Bmp280ReadCompensate: one 6-byte burst -> integer and double compensation;
 //   BM_Ads1115ReadConvert: one conversion register read and the next single-shot start -> V;
 //   BM_MahonyUpdate: one filter step with gyro, accelerometer and magnetometer.
@@ -16,6 +17,7 @@
 #include "sensors/bmp280.hpp"
 #include "sensors/fake/navigator_models.hpp"
 #include "sensors/icm20602.hpp"
+#include "sensors/mmc5983.hpp"
 #include "spi/fake_spi.hpp"
 
 namespace {
@@ -65,6 +67,25 @@ void BM_Ak09915ReadConvert(benchmark::State& state) {
   report_allocs(state, before);
 }
 BENCHMARK(BM_Ak09915ReadConvert);
+
+void BM_Mmc5983ReadConvert(benchmark::State& state) {
+  i2c::FakeBus bus("/dev/i2c-1");
+  fake::Mmc5983Model chip;
+  bus.attach(mmc5983::kAddress, &chip);
+  mmc5983::Device dev(bus, mmc5983::kAddress, 100);
+  if (dev.start() != 0) state.SkipWithError("start failed");
+  mmc5983::Burst b{};
+  TimeUs t = bus.now();
+  const long before = test::allocations();
+  for (auto _ : state) {
+    bus.set_time(t += 10'000);
+    dev.read(b);
+    const auto s = mmc5983::convert(b);
+    benchmark::DoNotOptimize(s);
+  }
+  report_allocs(state, before);
+}
+BENCHMARK(BM_Mmc5983ReadConvert);
 
 void BM_Bmp280ReadCompensate(benchmark::State& state) {
   i2c::FakeBus bus("/dev/i2c-1");

@@ -23,6 +23,7 @@
 #include "sensors/bmp280.hpp"
 #include "sensors/fake/navigator_models.hpp"
 #include "sensors/icm20602.hpp"
+#include "sensors/mmc5983.hpp"
 #include "spi/fake_spi.hpp"
 
 namespace {
@@ -235,6 +236,44 @@ TEST(Ads1115, ConfigWordCodesAndConversions) {
   ASSERT_EQ(dev.read(raw), 0);
   EXPECT_EQ(raw, 8000);  // 1.0 V / 4.096 V * 32768
   EXPECT_DOUBLE_EQ(ads1115::volts(raw, 1), 1.0);
+}
+
+// MMC5983MA: the 18-bit codes by hand. X 131072 + 16384 (+1 G = 100 uT): Xout0 0x90, Xout1 0x00;
+// Y 131072 - 8192 (-50 uT): 0x78, 0x00; Z 131072 + 3: 0x80, 0x00 and XYZout2 bits 3:2 = 11;
+// Status Meas_M_Done. The set-up: soft reset, product id 0x30, automatic SET/RESET, continuous
+// 100 Hz with the periodic set; another id is EPROTO.
+TEST(Mmc5983, CodesAndSetUp) {
+  const mmc5983::Burst b = {0x90, 0x00, 0x78, 0x00, 0x80, 0x00, 0x0C, 0x00, 0x01};
+  const auto s = mmc5983::convert(b);
+  EXPECT_TRUE(s.data_ready);
+  EXPECT_DOUBLE_EQ(s.field_ut[0], 100.0);
+  EXPECT_DOUBLE_EQ(s.field_ut[1], -50.0);
+  EXPECT_DOUBLE_EQ(s.field_ut[2], 3.0 / 16384.0 * 100.0);
+  EXPECT_EQ(mmc5983::continuous_freq(100), 5);
+  EXPECT_EQ(mmc5983::continuous_freq(200), -1);
+  i2c::FakeBus bus;
+  fake::Mmc5983Model chip;
+  chip.field_ut[0] = 25.0;
+  chip.field_ut[1] = -12.5;
+  chip.field_ut[2] = 43.0;
+  bus.attach(mmc5983::kAddress, &chip);
+  mmc5983::Device dev(bus, mmc5983::kAddress, 100);
+  ASSERT_EQ(dev.start(), 0);
+  EXPECT_EQ(chip.regs[mmc5983::kRegControl0], 0x20);
+  EXPECT_EQ(chip.regs[mmc5983::kRegControl2], 0x80 | 0x08 | 5);
+  bus.set_time(bus.now() + 20'000);
+  mmc5983::Burst r{};
+  ASSERT_EQ(dev.read(r), 0);
+  const auto m = mmc5983::convert(r);
+  ASSERT_TRUE(m.data_ready);
+  for (int i = 0; i < 3; ++i) EXPECT_NEAR(m.field_ut[i], chip.field_ut[i], 0.0031);  // 6.1 nT
+  ASSERT_EQ(dev.read(r), 0);
+  EXPECT_FALSE(mmc5983::convert(r).data_ready);  // read once: no new sample yet
+  fake::Mmc5983Model other;
+  other.product_id = 0x12;
+  bus.attach(mmc5983::kAddress, &other);
+  EXPECT_EQ(dev.start(), EPROTO);
+  EXPECT_EQ(dev.product_id(), 0x12);
 }
 
 struct PowerBus : Bus {

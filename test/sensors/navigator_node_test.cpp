@@ -90,6 +90,44 @@ TEST(NavigatorNode, StillBoardGivesTheTruthsAttitudeAndHeading) {
   EXPECT_EQ(r.out.hb.state, heartbeat_t::STATE_OK) << r.out.hb.status;
 }
 
+// A newer board's MMC5983MA (compass: mmc5983) at 0x30 instead of the AK09915: the same still
+// board gives the same attitude and heading; a chip with another product id is not taken.
+TEST(NavigatorNode, TheMmc5983CompassGivesTheSameHeading) {
+  Rig r;
+  fake::Mmc5983Model mmc;
+  for (int i = 0; i < 3; ++i) mmc.field_ut[i] = r.compass.field_ut[i];
+  r.i2c.detach(ak09915::kAddress);
+  r.i2c.attach(mmc5983::kAddress, &mmc);
+  r.p.compass_mmc5983 = true;
+  r.p.compass_address = mmc5983::kAddress;
+  NavigatorNode n(r.p, r.spi, r.i2c);
+  n.attach(&r.out);
+  r.run(n, 0, 4'000'000);
+  ASSERT_TRUE(n.compass_up());
+  const imu_t& m = r.out.imu.back();
+  ASSERT_TRUE(m.orientation_valid);
+  const ahrs::Quat q{m.orientation[0], m.orientation[1], m.orientation[2], m.orientation[3]};
+  EXPECT_LT(ahrs::angle_between(q, r.truth), 0.1 * kDeg);  // 6.1 nT per count: finer still
+  ASSERT_FALSE(r.out.headings.empty());
+  EXPECT_NEAR(r.out.headings.back().heading, 60 * kDeg, 0.1 * kDeg);
+  EXPECT_EQ(r.out.hb.state, heartbeat_t::STATE_OK) << r.out.hb.status;
+  EXPECT_GT(mmc.samples, 300);  // continuous mode at 100 Hz
+  // Another chip at 0x30: no compass, DEGRADED, the chip named.
+  Rig r2;
+  fake::Mmc5983Model other;
+  other.product_id = 0x12;
+  r2.i2c.attach(mmc5983::kAddress, &other);
+  r2.p.compass_mmc5983 = true;
+  r2.p.compass_address = mmc5983::kAddress;
+  NavigatorNode n2(r2.p, r2.spi, r2.i2c);
+  n2.attach(&r2.out);
+  r2.run(n2, 0, 1'500'000);
+  EXPECT_FALSE(n2.compass_up());
+  EXPECT_EQ(r2.out.hb.state, heartbeat_t::STATE_DEGRADED);
+  EXPECT_NE(r2.out.hb.status.find("mmc5983 on /dev/i2c-1 at 0x30"), std::string::npos)
+      << r2.out.hb.status;
+}
+
 TEST(NavigatorNode, DeclinationMakesTheHeadingTrue) {
   Rig r;
   r.p.declination = 3 * kDeg;

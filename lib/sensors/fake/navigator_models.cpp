@@ -8,6 +8,7 @@
 #include "sensors/ak09915.hpp"
 #include "sensors/bmp280.hpp"
 #include "sensors/icm20602.hpp"
+#include "sensors/mmc5983.hpp"
 
 namespace tiller::sensors::fake {
 
@@ -204,6 +205,50 @@ int Ads1115Model::on_read(std::uint8_t* out, std::size_t n, TimeUs now) {
   const std::uint16_t v = ptr_ == ads1115::kRegConfig ? config : conversion;
   if (n >= 1) out[0] = static_cast<std::uint8_t>(v >> 8);
   if (n >= 2) out[1] = static_cast<std::uint8_t>(v & 0xFF);
+  return 0;
+}
+
+int Mmc5983Model::on_write(const std::uint8_t* d, std::size_t n, TimeUs now) {
+  if (n == 0) return 0;
+  ptr_ = d[0] & 0x3F;
+  if (n >= 2) {
+    regs[ptr_] = d[1];
+    if (ptr_ == mmc5983::kRegControl1 && (d[1] & mmc5983::kSoftReset)) {
+      regs.fill(0);
+      next_sample_ = now;
+    }
+  }
+  return 0;
+}
+
+void Mmc5983Model::advance(TimeUs now) {
+  const std::uint8_t c2 = regs[mmc5983::kRegControl2];
+  if (!(c2 & mmc5983::kContinuous)) return;
+  static constexpr int kHz[8] = {0, 1, 10, 20, 50, 100, 200, 1000};
+  const int hz = kHz[c2 & 7];
+  if (hz == 0 || now < next_sample_) return;
+  next_sample_ = now + 1'000'000 / hz;
+  for (int i = 0; i < 3; ++i) {
+    double code = std::round(field_ut[i] / 100.0 * mmc5983::kCountsPerGauss + mmc5983::kNull);
+    code = std::clamp(code, 0.0, 262143.0);
+    const auto c = static_cast<std::uint32_t>(code);
+    regs[2 * i] = static_cast<std::uint8_t>(c >> 10);
+    regs[2 * i + 1] = static_cast<std::uint8_t>(c >> 2);
+    regs[6] = static_cast<std::uint8_t>((regs[6] & ~(0x03u << (6 - 2 * i))) |
+                                        ((c & 0x03u) << (6 - 2 * i)));
+  }
+  regs[mmc5983::kRegStatus] |= mmc5983::kMeasDone;
+  ++samples;
+}
+
+int Mmc5983Model::on_read(std::uint8_t* out, std::size_t n, TimeUs now) {
+  advance(now);
+  for (std::size_t i = 0; i < n; ++i) {
+    const std::uint8_t r = static_cast<std::uint8_t>((ptr_ + i) & 0x3F);
+    out[i] = r == mmc5983::kRegProductId ? product_id : regs[r];
+  }
+  if (ptr_ <= mmc5983::kRegStatus && ptr_ + n > mmc5983::kRegStatus)
+    regs[mmc5983::kRegStatus] &= static_cast<std::uint8_t>(~mmc5983::kMeasDone);  // read: done
   return 0;
 }
 

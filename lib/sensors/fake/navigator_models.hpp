@@ -83,4 +83,22 @@ class Ads1115Model : public i2c::FakeDevice {
   TimeUs ready_at_ = 0;
 };
 
+// MMC5983MA (0x30): product id 0x30, continuous mode from Internal Control 2, one sample of
+// `field_ut` (chip frame) per period, Meas_M_Done until the data are read.
+class Mmc5983Model : public i2c::FakeDevice {
+ public:
+  Mmc5983Model() = default;
+  int on_write(const std::uint8_t* d, std::size_t n, TimeUs now) override;
+  int on_read(std::uint8_t* out, std::size_t n, TimeUs now) override;
+  void advance(TimeUs now) override;
+  std::array<std::uint8_t, 64> regs{};
+  double field_ut[3] = {20, 0, 40};
+  std::uint8_t product_id = 0x30;
+  std::int64_t samples = 0;
+
+ private:
+  std::uint8_t ptr_ = 0;
+  TimeUs next_sample_ = 0;
+};
+
 }  // namespace tiller::sensors::fake
