@@ -42,7 +42,8 @@ TEST(Allocation, UnactuatedAxesAreFoundNotInverted) {
       {"otter", {false, true, true, true, true, false}},
       {"wamv", {false, true, true, true, true, false}},
       {"seed001_rov6_table", {false, false, false, true, false, false}},
-      {"bluerov2", {false, false, false, false, true, false}}};
+      {"bluerov2", {false, false, false, false, true, false}},
+      {"blueboat", {false, true, true, true, true, false}}};
   for (const auto& name : preset_names()) {
     const Allocator a(preset(name));
     EXPECT_EQ(a.unactuated(), expected.at(name)) << name;
