@@ -330,7 +330,9 @@ async function rov(browser) {
     check(await state(obs, () => st.msgs.TILLER_THRUSTER_COMMAND.msg.command.every((c) => c === 0)),
           'visible again with the stick held: still neutral (not centred)');
     await page.evaluate(() => { window.__axes = [0, 0, 0, 0]; });
-    await sleep(300);
+    // Pushed only once the cockpit has seen the centred stick (a fixed 300 ms was not always
+    // enough for the page's 50 ms gamepad loop on a loaded machine).
+    await until(() => state(obs, () => st.pilot && st.pilot.centred), 3000, 'the cockpit sees the stick centred');
     await page.evaluate(() => { window.__axes = [0, 0, 0, -1]; });
     await until(() => state(obs, () => st.msgs.TILLER_THRUSTER_COMMAND.msg.command.some((c) => Math.abs(c) > 0.1)), 2000,
                 'centred again: thrust follows the stick');
