@@ -186,7 +186,13 @@ path_t to_path(const Mission& m, std::int64_t path_id, std::int64_t utime) {
   path_t p{};
   p.utime = utime;
   p.path_id = path_id;
-  for (const auto& w : m.waypoints) {
+  set_waypoints(p, m.waypoints);
+  return p;
+}
+
+void set_waypoints(path_t& p, const std::vector<MissionPoint>& points) {
+  p.waypoints.clear();
+  for (const auto& w : points) {
     waypoint_t x{};
     x.position[0] = w.north;
     x.position[1] = w.east;
@@ -195,7 +201,6 @@ path_t to_path(const Mission& m, std::int64_t path_id, std::int64_t utime) {
     p.waypoints.push_back(x);
   }
   p.n_waypoints = static_cast<std::int32_t>(p.waypoints.size());
-  return p;
 }
 
 }  // namespace tiller::mission

@@ -113,5 +113,7 @@ std::vector<MissionPoint> load_csv_points(const std::string& path);
 
 // The path message for a mission (path_id identifies it: a new id restarts the follower).
 path_t to_path(const Mission& m, std::int64_t path_id, std::int64_t utime);
+// The points as the path's waypoints (n_waypoints too), reusing its storage.
+void set_waypoints(path_t& p, const std::vector<MissionPoint>& points);
 
 }  // namespace tiller::mission

@@ -185,16 +185,7 @@ Sequencer::Action Sequencer::on_position(double north, double east, TimeUs now) 
 
 void leg_messages(const Leg& leg, std::int64_t path_id, path_t& path, path_speed_t& speed) {
   path.path_id = path_id;
-  path.waypoints.clear();
-  for (const auto& w : leg.points) {
-    waypoint_t x{};
-    x.position[0] = w.north;
-    x.position[1] = w.east;
-    x.has_heading = w.has_heading;
-    x.heading = w.heading;
-    path.waypoints.push_back(x);
-  }
-  path.n_waypoints = static_cast<std::int32_t>(path.waypoints.size());
+  set_waypoints(path, leg.points);
   speed.path_id = path_id;
   speed.speed = leg.speeds;
   speed.n_segments = static_cast<std::int32_t>(speed.speed.size());

@@ -5,6 +5,7 @@
 
 #include "core/config.hpp"
 #include "core/message_checks.hpp"
+#include "sensors/power_node.hpp"
 
 namespace tiller::sensors {
 
@@ -134,16 +135,7 @@ void Ads1115PowerNode::sample(TimeUs now) {
   } else if (have_voltage_) {
     const double amps = (p_.invert_current ? -1.0 : 1.0) * (v_in - p_.module.current_offset_v) *
                         p_.module.amps_per_volt;
-    const double watts = bus_v_ * amps;
-    const auto gaps_before = integ_.gaps();
-    integ_.add(now, amps, watts);
-    *gaps_ += integ_.gaps() - gaps_before;
-    msg_.utime = now;
-    msg_.voltage = bus_v_;
-    msg_.current = amps;
-    msg_.power = watts;
-    msg_.consumed_charge = integ_.charge_ah();
-    msg_.consumed_energy = integ_.energy_wh();
+    fill_power_sample(msg_, integ_, *gaps_, now, bus_v_, amps, bus_v_ * amps);
     if (checks::check(msg_) != nullptr) {
       reject(*rejected_);
     } else {

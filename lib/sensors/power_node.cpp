@@ -65,6 +65,19 @@ PowerParams load_power_params(const config::Value& root) {
   return p;
 }
 
+void fill_power_sample(power_t& msg, ina226::Integrator& integ, std::int64_t& gaps, TimeUs now,
+                       double volts, double amps, double watts) {
+  const auto gaps_before = integ.gaps();
+  integ.add(now, amps, watts);
+  gaps += integ.gaps() - gaps_before;
+  msg.utime = now;
+  msg.voltage = volts;
+  msg.current = amps;
+  msg.power = watts;
+  msg.consumed_charge = integ.charge_ah();
+  msg.consumed_energy = integ.energy_wh();
+}
+
 PowerParams load_power_file(const std::string& path) {
   return load_power_params(config::Value::load_file(path));
 }
@@ -188,15 +201,7 @@ void PowerNode::sample(TimeUs now) {
   const double sign = p_.invert_current ? -1.0 : 1.0;
   const double amps = sign * ina226::current(cur, p_.current_lsb);
   const double watts = std::copysign(ina226::power(pwr, p_.current_lsb), amps);
-  const auto gaps_before = integ_.gaps();
-  integ_.add(now, amps, watts);
-  *gaps_ += integ_.gaps() - gaps_before;
-  msg_.utime = now;
-  msg_.voltage = ina226::bus_voltage(vbus);
-  msg_.current = amps;
-  msg_.power = watts;
-  msg_.consumed_charge = integ_.charge_ah();
-  msg_.consumed_energy = integ_.energy_wh();
+  fill_power_sample(msg_, integ_, *gaps_, now, ina226::bus_voltage(vbus), amps, watts);
   if (checks::check(msg_) != nullptr) {
     reject(*rejected_);
   } else {

@@ -54,6 +54,11 @@ struct PowerParams {
 PowerParams load_power_params(const config::Value& root);
 PowerParams load_power_file(const std::string& path);
 
+// One sample into `msg` (V, A, W at `now`), charge and energy integrated (a gap counted in
+// `gaps`); shared by the INA226 and ADS1115 nodes. No allocation.
+void fill_power_sample(power_t& msg, ina226::Integrator& integ, std::int64_t& gaps, TimeUs now,
+                       double volts, double amps, double watts);
+
 class PowerNode : public Node {
  public:
   PowerNode(const PowerParams& p, i2c::Transport& bus);

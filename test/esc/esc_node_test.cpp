@@ -2,6 +2,8 @@
 // name, command timeout, reverse, trim, slew through zero, bad input, 10 Hz messages, lockstep.
 #include <gtest/gtest.h>
 
+#include <memory>
+
 #include <algorithm>
 #include <cmath>
 
@@ -66,6 +68,45 @@ TEST(EscNode, ArmsOnlyWhileCommandsAreNeutral) {
   EXPECT_FALSE(r.node->armed());
   r.run_until(130'000);
   for (int i = 0; i < 4; ++i) EXPECT_EQ(r.output().value[i], 0);
+}
+
+// Issue 30, scenario 2, with the clock moved: an arm request captured from one start of
+// tiller-esc and replayed into the next is refused by its boot nonce whatever the clocks say,
+// also when the receiver's clock stepped back so that the old stamp looks fresh (age 0), and an
+// hour either way; the new start's own request arms.
+TEST(EscNode, ACapturedArmIsRefusedAfterARestartWhateverTheClock) {
+  Rig before(sim_yaml());
+  before.node->set_boot_nonce(1111);
+  before.next_tick = 7'200'000'000;  // two hours into the clock
+  before.run_until(7'200'000'000);
+  arm_request_t captured{};
+  captured.utime = before.now;
+  captured.arm = true;
+  captured.source = "teleop";
+  captured.boot_nonce = 1111;
+  before.send(channels::kArmRequest, captured);
+  ASSERT_TRUE(before.node->armed());
+
+  // Restarted (a new nonce), its clock at the stamp (stepped back), an hour later, an hour earlier.
+  const auto restarted_at = [](TimeUs now) {
+    auto r = std::make_unique<Rig>(sim_yaml());
+    r->node->set_boot_nonce(2222);
+    r->next_tick = now;  // start its ticks there
+    r->run_until(now);
+    return r;
+  };
+  for (const TimeUs now :
+       {captured.utime, captured.utime + 3'600'000'000, captured.utime - 3'600'000'000}) {
+    auto after = restarted_at(now);
+    after->send(channels::kArmRequest, captured);
+    EXPECT_FALSE(after->node->armed()) << "at " << now;
+    EXPECT_EQ(after->node->counter_value("rejected.arm_request.boot_nonce"), 1) << "at " << now;
+  }
+  auto after = restarted_at(captured.utime);
+  arm_request_t fresh = captured;
+  fresh.boot_nonce = 2222;
+  after->send(channels::kArmRequest, fresh);
+  EXPECT_TRUE(after->node->armed());
 }
 
 TEST(EscNode, ArmsWithNoCommandAtAll) {

@@ -106,11 +106,14 @@ TEST(LaunchFiles, CheckCreatesNoFile) {
     return names;
   };
   const auto before = listing();
-  const std::string cmd = "TILLER_KEY_FILE=" + key.string() + " " + TILLER_BIN_DIR +
-                          "/tiller-launch --check --log-dir " + (dir / "logs").string() + " " +
-                          TILLER_SOURCE_DIR + "/config/launch/real_bluerov2.yaml > /dev/null";
-  EXPECT_EQ(std::system(cmd.c_str()), 0);
-  EXPECT_EQ(listing(), before);
+  for (const char* file : {"real_bluerov2.yaml", "real_blueboat.yaml", "topside_blueboat.yaml",
+                           "topside_bluerov2.yaml"}) {
+    const std::string cmd = "TILLER_KEY_FILE=" + key.string() + " " + TILLER_BIN_DIR +
+                            "/tiller-launch --check --log-dir " + (dir / "logs").string() + " " +
+                            TILLER_SOURCE_DIR + "/config/launch/" + file + " > /dev/null";
+    EXPECT_EQ(std::system(cmd.c_str()), 0) << file;
+    EXPECT_EQ(listing(), before) << file;
+  }
   std::ifstream in(dir / "logs" / "real-bluerov2.lcmlog.0");
   EXPECT_EQ(std::string(std::istreambuf_iterator<char>(in), {}), "last run");
   fs::remove_all(dir);
