@@ -24,9 +24,9 @@
 using namespace tiller;
 
 namespace {
-const char* kSimFlags[] = {"odometry",    "sensors",       "gnss-outage",
-                           "seed",        "north",         "east",
-                           "heading-deg", "current-speed", "current-toward-deg"};
+const char* kSimFlags[] = {
+    "odometry",    "sensors",       "gnss-outage",        "seed",       "north",        "east",
+    "heading-deg", "current-speed", "current-toward-deg", "mass-scale", "damping-scale"};
 
 app::Spec spec() {
   app::Spec s{

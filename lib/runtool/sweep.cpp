@@ -20,8 +20,9 @@ namespace tiller::runtool {
 namespace {
 
 constexpr const char* kFileKinds[] = {"vehicle", "sim", "esc", "mixer", "control", "guidance"};
-constexpr const char* kSimOptions[] = {"current-speed", "current-toward-deg", "seed", "north",
-                                       "east",          "heading-deg"};
+constexpr const char* kSimOptions[] = {
+    "current-speed", "current-toward-deg", "seed",       "north",
+    "east",          "heading-deg",        "mass-scale", "damping-scale"};
 
 bool is_number(const std::string& s, double* out = nullptr) {
   double v = 0;
@@ -148,7 +149,7 @@ Axis parse_axis(const std::string& text) {
   const std::string usage =
       " (expected NAME=FROM:TO:COUNT or NAME=V1,V2,..., NAME a setting FILE.KEY, one of vehicle, "
       "sim, esc, mixer, control, guidance, or a simulator option: current-speed, "
-      "current-toward-deg, seed, north, east, heading-deg)";
+      "current-toward-deg, seed, north, east, heading-deg, mass-scale, damping-scale)";
   if (eq == std::string::npos || eq == 0 || eq + 1 == text.size())
     throw std::runtime_error("'" + text + "'" + usage);
   Axis a;

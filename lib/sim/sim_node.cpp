@@ -167,6 +167,22 @@ SimParams load_params_file(const std::string& path) {
 }
 }  // namespace
 
+sim::DynamicsParams scaled_dynamics(const sim::DynamicsParams& d, const SimParams& p) {
+  sim::DynamicsParams s = d;
+  s.mass_matrix *= p.mass_scale;
+  s.coriolis_mass_matrix *= p.mass_scale;
+  if (s.kind == sim::ModelKind::kSurface3Dof) {  // the unused diagonal stays 1 (dynamics.hpp)
+    for (const int i : {2, 3, 4}) {
+      s.mass_matrix(i, i) = d.mass_matrix(i, i);
+      s.coriolis_mass_matrix(i, i) = d.coriolis_mass_matrix(i, i);
+    }
+  }
+  s.linear_damping *= p.damping_scale;
+  s.quadratic_damping *= p.damping_scale;
+  s.cross_flow.cd *= p.damping_scale;
+  return s;
+}
+
 SimNode::SimNode(const std::string& config_path)
     : SimNode(load_params_file(config_path),
               load_sim_vehicle_file(load_params_file(config_path).vehicle_file)) {}
@@ -175,7 +191,7 @@ SimNode::SimNode(const SimParams& params, const SimVehicle& v)
     : Node("sim", params.step_us),
       p_(params),
       vehicle_(v.vehicle),
-      model_(v.dynamics, geometry_of(v.vehicle)),
+      model_(scaled_dynamics(v.dynamics, params), geometry_of(v.vehicle)),
       current_(params.current, params.seed),
       noise_(params.noise, params.seed + 0x9E3779B97F4A7C15ull),
       sensors_(params.sensors, params.seed),

@@ -81,7 +81,14 @@ struct SimParams {
   // estimator, tiller-nav, publishes it from the simulated sensors).
   bool publish_odometry = true;
   sim::SensorParams sensors;  // enabled false: no sensor messages
+  // A vehicle the controllers were not tuned on (tiller-sim --mass-scale, --damping-scale; for
+  // tiller-tune's identification): the vehicle file's mass matrix (and Coriolis mass matrix)
+  // times mass_scale, its linear, quadratic and cross-flow damping times damping_scale.
+  double mass_scale = 1, damping_scale = 1;
 };
+
+// The vehicle's dynamics with `p`'s mass and damping scales applied (SimNode applies them).
+sim::DynamicsParams scaled_dynamics(const sim::DynamicsParams& d, const SimParams& p);
 
 // Reads config/sim/*.yaml strictly. `vehicle:` is resolved relative to the config file's folder
 // first, then to the current directory.

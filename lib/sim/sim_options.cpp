@@ -88,6 +88,11 @@ std::vector<app::Option> sim_options() {
        "no GNSS fix from START s after the start for DURATION s (a comma list for several)", ""},
       {"leak-at", "S", "every leak probe turns wet S s after the start (0..1e7)", ""},
       {"battery-used-ah", "AH", "the battery starts with AH already drawn (0..capacity)", ""},
+      {"mass-scale", "S",
+       "the vehicle's mass, added mass and inertia times S (0.1..10; tiller-tune's unseen vehicle)",
+       ""},
+      {"damping-scale", "S",
+       "the vehicle's linear, quadratic and cross-flow damping times S (0.1..10)", ""},
       {"nmea-link", "PATH",
        "make PATH a symlink to the NMEA pseudo-terminal (for gpsd; needs nmea output)", ""}};
 }
@@ -128,6 +133,8 @@ SimOverrides sim_overrides(const app::Args& a) {
   if (given("gnss-outage")) o.gnss_outages = parse_outages(a.get("gnss-outage"));
   if (given("leak-at")) o.leak_at_s = number(a, "leak-at", 0, 1e7, "s");
   if (given("battery-used-ah")) o.battery_used_ah = number(a, "battery-used-ah", 0, 1e4, "Ah");
+  if (given("mass-scale")) o.mass_scale = number(a, "mass-scale", 0.1, 10, "(a factor)");
+  if (given("damping-scale")) o.damping_scale = number(a, "damping-scale", 0.1, 10, "(a factor)");
   o.nmea_link = a.get("nmea-link");
   if (given("mission")) {
     o.mission_file = app::resolve_path(a.get("mission"));
@@ -218,6 +225,8 @@ void apply(const SimOverrides& o, SimParams& p) {
                                "), got '" + fmt(*o.battery_used_ah) + "'");
     p.sensors.power.initial_consumed_ah = *o.battery_used_ah;
   }
+  if (o.mass_scale) p.mass_scale = *o.mass_scale;
+  if (o.damping_scale) p.damping_scale = *o.damping_scale;
   if (!o.nmea_link.empty() && !p.sensors.gnss_nmea)
     throw std::runtime_error(
         "--nmea-link: expected NMEA output (--gnss-output nmea or both, or gnss.output in the "

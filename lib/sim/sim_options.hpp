@@ -15,6 +15,8 @@
 //                                  as a comma list: 40:20,90:5)
 //   --leak-at S                    every leak probe turns wet S seconds after the start
 //   --battery-used-ah AH           the battery starts with AH already drawn
+//   --mass-scale S --damping-scale S   the vehicle's mass (with added mass and inertia) and its
+//                                  damping times S (0.1..10): a vehicle the gains were not tuned on
 //   --nmea-link PATH               (tiller-sim) a symlink to the NMEA pseudo-terminal
 // Numbers are checked as strictly as the config: the whole string a finite number within the
 // range load_sim_params accepts, else "--NAME: expected E, got 'V'" (std::runtime_error; the
@@ -44,6 +46,7 @@ struct SimOverrides {
   std::optional<std::string> gnss_output;  // lcm | nmea | both
   std::vector<sim::GnssOutage> gnss_outages;
   std::optional<double> leak_at_s, battery_used_ah;
+  std::optional<double> mass_scale, damping_scale;
   std::string nmea_link;  // tiller-sim only (the pseudo-terminal is I/O, not the node's)
 };
 
