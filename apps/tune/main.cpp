@@ -59,6 +59,12 @@ int identify_command(const app::Args& a, const std::string& log) {
                                    tune::fastest(r, id), scaled ? "simulator" : "vehicle file")
                  .c_str(),
              stdout);
+  for (const auto& f : {control, guidance}) {
+    if (!fs::exists(f)) {  // an ROV's tiller-rov-control file has another shape (docs/tuning.md)
+      std::printf("no proposal: %s: no such file (give --control and --guidance)\n", f.c_str());
+      return 0;
+    }
+  }
   const tune::Proposal p = tune::propose(id, vehicle, control, guidance);
   std::fputs(tune::proposal_report(p).c_str(), stdout);
   if (!a.get("out").empty()) {

@@ -83,7 +83,9 @@ std::vector<Window> windows_for(const Record& r, int axis, const IdentifyOptions
         if (x == axis) {
           driven |= w > o.driven_n || v > o.quiet_velocity;
         } else {
-          quiet &= w < o.quiet_wrench_n && v < o.quiet_velocity;
+          // A buoyant ROV rising at a steady speed does not disturb the other axes (no heave
+          // coupling without roll or pitch rates): heave's velocity is not held against them.
+          quiet &= w < o.quiet_wrench_n && (x == kHeave || v < o.quiet_velocity);
         }
       }
     }

@@ -16,7 +16,8 @@
 // with int tau_f exact for the targets held between ESC outputs (first-order lag in closed form)
 // and the velocity integrals trapezoidal. Windows are consecutive and do not overlap; an axis
 // uses the windows in which it alone is driven (the other axes' wrench and velocity below the
-// options' limits), so a yaw turn does not pass for surge drag. T minimises the sum over axes of
+// options' limits; heave's velocity excepted, since a buoyant ROV rises whenever the pilot gives
+// no heave), so a yaw turn does not pass for surge drag. T minimises the sum over axes of
 // the unexplained fraction of each axis's regression (a scan over log T, then golden section).
 // Each parameter comes with its standard deviation sigma^2 (A^T A)^-1 (sigma^2 the residual
 // variance); T with its 95 % interval from the profile of the residual (likelihood ratio,

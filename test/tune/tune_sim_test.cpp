@@ -32,11 +32,13 @@ struct Case {
 };
 
 Identified identify_on(const Case& c, std::array<AxisTruth, kAxes>& truth, double& tc,
-                       std::array<double, kAxes>& top) {
+                       std::array<double, kAxes>& top, const std::string& vehicle = "otter",
+                       const std::string& script = "tune_usv",
+                       const std::string& teleop = "gamepad_blueboat") {
   DriveSpec s;
-  s.vehicle_file = kSrc + "/config/vehicles/otter.yaml";
-  s.script_file = kSrc + "/config/pilot/tune_usv.yaml";
-  s.teleop_file = kSrc + "/config/teleop/gamepad_blueboat.yaml";
+  s.vehicle_file = kSrc + "/config/vehicles/" + vehicle + ".yaml";
+  s.script_file = kSrc + "/config/pilot/" + script + ".yaml";
+  s.teleop_file = kSrc + "/config/teleop/" + teleop + ".yaml";
   s.sim_file = kSrc + "/config/sim/sim.yaml";
   s.sim_args = {"--mass-scale", std::to_string(c.mass), "--damping-scale",
                 std::to_string(c.damping)};
@@ -78,6 +80,27 @@ TEST(TuneSim, IdentifiesTheOtterWithin10Percent) {
   std::array<double, kAxes> top;
   const Identified id = identify_on({1.0, 1.0}, truth, tc, top);
   expect_within_10_percent(id, truth, tc, top);
+}
+
+// The BlueROV2 from config/pilot/tune_rov.yaml: heave (with the weight less buoyancy), surge,
+// sway and yaw. The one-axis model leaves out the 6-DOF couplings (the damping centre 4 cm below
+// the origin turns a sway into a roll): the drags and heave come within 10 %, the sway mass and
+// yaw inertia do not (-18 %, -13 %; docs/tuning.md), so only what holds is asserted.
+TEST(TuneSim, AnRovsHeaveAndDragsFromItsManoeuvres) {
+  std::array<AxisTruth, kAxes> truth;
+  double tc = 0;
+  std::array<double, kAxes> top;
+  const Identified id =
+      identify_on({1.0, 1.0}, truth, tc, top, "bluerov2", "tune_rov", "extreme3dpro_bluerov2");
+  const Differences d = differences(id, truth, tc, top);
+  for (int x = 0; x < kAxes; ++x) {
+    ASSERT_TRUE(id.axis[static_cast<std::size_t>(x)].identified) << kAxisName[x];
+    EXPECT_LT(std::fabs(d.axis[static_cast<std::size_t>(x)][3]), 0.10)
+        << kAxisName[x] << " drag at the fastest speed flown";
+  }
+  EXPECT_LT(std::fabs(d.axis[kHeave][0]), 0.10) << "heave mass";
+  EXPECT_LT(std::fabs(d.axis[kSurge][0]), 0.10) << "surge mass";
+  EXPECT_NEAR(id.axis[kHeave].bias.value, truth[kHeave].bias, 0.1) << "weight less buoyancy, N";
 }
 
 TEST(TuneSim, IdentifiesAnUnseenVehicleAndItsGainsFlyTheCourse) {
