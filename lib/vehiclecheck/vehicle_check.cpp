@@ -161,8 +161,11 @@ class Checker {
         for (const auto& proc : lf.processes) {
           if (fs::path(proc.command).filename() != "tiller-teleop") continue;
           for (std::size_t i = 0; i + 1 < proc.args.size(); ++i) {
+            // ${NAME:-default}: the preset the environment picks, else the default (tools/rov-demo
+            // sets sim_rov_demo.yaml's TILLER_ROV_TELEOP).
             if (proc.args[i] == "--config")
-              presets.push_back((fs::path(lf.root) / proc.args[i + 1]).string());
+              presets.push_back(
+                  (fs::path(lf.root) / launch::substitute(proc.args[i + 1], {})).string());
           }
         }
         return "tiller-launch: " + std::to_string(lf.processes.size()) + " processes";
