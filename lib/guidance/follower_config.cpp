@@ -88,6 +88,9 @@ FollowerParams load_follower_params(const config::Value& v) {
   p.turn_arc = v.boolean_or("turn_arc", false);
   p.turn_arc_inside_max = v.number_or("turn_arc_inside_max", 0.5, {0.01, 100});
   p.heading_lead_s = v.number_or("heading_lead_s", 0, {0, 10});
+  p.turn_arc_water = v.choice_or("turn_arc_frame", "ground", {"ground", "water"}) == "water";
+  // The current along a leg from the velocity PID's surge integral (issue 35); absent: off.
+  p.surge_integral_drag = v.number_or("surge_integral_drag", 0, {0, 1e5});
   return p;
 }
 

@@ -21,6 +21,9 @@ void PathFollower::clear() {
   world_integral_.setZero();
   crab_world_.setZero();
   on_arc_ = false;
+  last_pos_valid_ = false;
+  along_seg_ = -1;
+  along_current_ = 0;
 }
 
 void PathFollower::arc_for(double angle, double& radius, double& speed) const {
@@ -131,6 +134,40 @@ Vec2 PathFollower::current_estimate() const {
   return Vec2(0, 0);
 }
 
+void PathFollower::observe_current_along(double heading, double current) {
+  if (!std::isfinite(heading) || !std::isfinite(current) || !last_pos_valid_ || complete_) return;
+  const int n = static_cast<int>(pts_.size());
+  if (seg_ + 1 >= n) return;
+  const Vec2& p1 = pts_[static_cast<std::size_t>(seg_)].position;
+  const Vec2& p2 = pts_[static_cast<std::size_t>(seg_ + 1)].position;
+  const double len = (p2 - p1).norm();
+  const Vec2 t = (p2 - p1) / len;
+  const double along = t.dot(last_pos_ - p1);
+  const bool last = seg_ + 2 >= n;
+  // Not within the turn's slow-down (nor kAlongSettleDistance before it): braking for the turn
+  // leaves the integral off its steady value.
+  const double end_zone = last ? 0.0 : p_.turn_slowdown_distance + kAlongSettleDistance;
+  if (along < kAlongSettleDistance || along > len - end_zone) return;
+  const Vec2 h(std::cos(heading), std::sin(heading));
+  const double th = t.dot(h);
+  if (th < std::cos(kPi / 6)) return;
+  // current . h = c_t (t . h) + c_n (n . h), c_n the law's estimate across the leg.
+  const Vec2 nrm(-t.y(), t.x());
+  const double c_n = nrm.dot(current_estimate());
+  along_current_ = (current - c_n * nrm.dot(h)) / th;
+  along_seg_ = seg_;
+}
+
+Vec2 PathFollower::current_full() const {
+  const Vec2 est = current_estimate();
+  const int n = static_cast<int>(pts_.size());
+  if (along_seg_ != seg_ || complete_ || seg_ + 1 >= n) return est;
+  const Vec2 t = Vec2(pts_[static_cast<std::size_t>(seg_ + 1)].position -
+                      pts_[static_cast<std::size_t>(seg_)].position)
+                     .normalized();
+  return est + t * (along_current_ - t.dot(est));
+}
+
 double PathFollower::drift_lead(const Vec2& t1, const Vec2& t2, double angle) const {
   // Not for a hairpin (above 120 deg, where the wheel-over is capped too): its outside is along
   // the new leg, and a turn started earlier only passes farther from the point.
@@ -138,7 +175,7 @@ double PathFollower::drift_lead(const Vec2& t1, const Vec2& t2, double angle) co
   // The outside of the turn, across the new leg: t1's part normal to t2 (length sin(angle)).
   const Vec2 out = t1 - t2 * t1.dot(t2);
   const double s = out.norm();
-  const double drift = current_estimate().dot(out / s) * angle / p_.turn_drift_rate;
+  const double drift = current_full().dot(out / s) * angle / p_.turn_drift_rate;
   const double wo = wheel_over(angle, p_.max_speed * turn_factor(angle));
   return std::clamp(drift / s, -wo, wo);
 }
@@ -168,8 +205,17 @@ void PathFollower::carry_state(int from_seg, int to_seg) {
                 pts_[static_cast<std::size_t>(k)].position)
         .normalized();
   };
+  // A measured current along the leg just left (observe_current_along) replaces what the law
+  // holds along it: at a corner the new leg starts with the whole current known.
+  const bool measured = valid && along_seg_ == from_seg && to_seg == from_seg + 1;
   if (p_.law == CrossTrackLaw::kWorldIntegral) {
     if (!valid) world_integral_.setZero();
+    if (measured) {
+      const Vec2 t1 = dir(from_seg);
+      world_integral_ += t1 * (-along_current_ - t1.dot(world_integral_));
+      const double m = world_integral_.norm();
+      if (m > p_.integral_limit) world_integral_ *= p_.integral_limit / m;
+    }
     return;  // applied as its component along the segment's normal (update)
   }
   if (p_.law != CrossTrackLaw::kIntegral && p_.law != CrossTrackLaw::kAdaptive) return;
@@ -182,6 +228,7 @@ void PathFollower::carry_state(int from_seg, int to_seg) {
   const Vec2 n1(t1.y(), -t1.x()), n2(t2.y(), -t2.x());  // left normals (NED)
   // The leg just left: its normal component is the state (set_state may have changed it).
   crab_world_ += n1 * (std::sin(crab()) - n1.dot(crab_world_));
+  if (measured) crab_world_ += t1 * (-along_current_ / p_.max_speed - t1.dot(crab_world_));
   const double lim = std::sin(p_.max_crab);
   if (crab_world_.norm() > 1) crab_world_.normalize();
   const double beta = std::asin(std::clamp(n2.dot(crab_world_), -lim, lim));
@@ -193,6 +240,8 @@ FollowerOutput PathFollower::update(const Vec2& pos, double heading, double dt) 
   FollowerOutput out;
   if (pts_.empty() || !pos.allFinite() || !std::isfinite(heading)) return out;
   out.active = true;
+  last_pos_ = pos;
+  last_pos_valid_ = true;
   const int n = static_cast<int>(pts_.size());
   for (int k = seg_; k < n; ++k) {
     min_dist_[static_cast<std::size_t>(k)] =
@@ -219,6 +268,8 @@ FollowerOutput PathFollower::update(const Vec2& pos, double heading, double dt) 
     const bool reached = d2 < p_.acceptance_radius;
     bool cut = !last && d2 < p_.corner_cut_radius;
     bool arc_cut = false;  // left at the arc's start: the corner is flown along it
+    bool defer = false;    // a water turn starts later: reaching p2 does not end the segment
+    bool water_cut = false;
     if (!last && p_.turn_rate > 0 && rel == SegmentRelation::kMiddle) {
       // Turn anticipation: leave the segment at the wheel-over point.
       const Vec2 t1 = s.normalized();
@@ -226,26 +277,40 @@ FollowerOutput PathFollower::update(const Vec2& pos, double heading, double dt) 
       const double angle = std::acos(std::clamp(t1.dot(t2), -1.0, 1.0));
       double radius = 0, speed = 0;
       arc_for(angle, radius, speed);
-      const double wo0 = radius > 0 ? radius * std::tan(angle / 2)
-                                    : wheel_over(angle, p_.max_speed * turn_factor(angle));
+      WaterTurn wt;
+      if (radius > 0 && p_.turn_arc_water)
+        wt = plan_water_turn(t1, t2, current_full(), speed, p_.turn_rate);
+      const double wo0 = wt.valid     ? wt.lead
+                         : radius > 0 ? radius * std::tan(angle / 2)
+                                      : wheel_over(angle, p_.max_speed * turn_factor(angle));
       const double wo = wo0 + (radius > 0 ? 0.0 : drift_lead(t1, t2, angle));
       const double ahead = t1.dot(p2 - pos);  // along-track distance to p2
+      defer = wt.valid && ahead >= wo;
       if (ahead < wo && d2 < 2 * std::max(wo, wo0) + p_.corner_cut_radius) {
         cut = true;
-        if (radius > 0) {
+        if (wt.valid) {
+          wturn_ = wt;
+          wturn_origin_ = pos;
+          wturn_tau_ = 0;
+          arc_speed_ = speed;
+          arc_cut = true;
+          water_cut = true;
+        } else if (radius > 0) {
+          wturn_.valid = false;
           arc_ = make_turn_arc(p2, t1, t2, radius);
           arc_speed_ = speed;
           arc_cut = arc_.valid;
         }
       }
     }
-    if (reached || cut || rel == SegmentRelation::kInFront) {
+    if (defer) cut = false;  // not the corner cut either: the turn starts at its point
+    if ((reached && !defer) || cut || rel == SegmentRelation::kInFront) {
       const bool skip =
           min_dist_[static_cast<std::size_t>(seg_ + 1)] >= p_.acceptance_radius && !cut;
       if (skip) ++skipped_;
       carry_state(seg_, seg_ + 1);
       ++seg_;
-      on_arc_ = arc_cut && !reached;
+      on_arc_ = arc_cut && (water_cut || !reached);
       entered_by_cut_ = cut;
       entered_by_skip_ = skip;
       if (last) complete_ = true;
@@ -292,12 +357,44 @@ FollowerOutput PathFollower::update(const Vec2& pos, double heading, double dt) 
     out.along_speed = v.norm();
   }
   ArcPosition ap;
-  if (!complete_ && on_arc_) {
+  const bool water_turn = on_arc_ && wturn_.valid;
+  Vec2 ref(0, 0);  // the water turn's ground track now
+  if (!complete_ && water_turn) {
+    wturn_tau_ += std::max(0.0, dt);
+    ref = wturn_origin_ + ground_offset(wturn_, wturn_tau_);
+    if (wturn_tau_ >= wturn_.duration || (ref - pos).norm() > p_.parallel_cutoff_distance)
+      on_arc_ = false;
+  } else if (!complete_ && on_arc_) {
     ap = locate(arc_, pos);
     if (ap.past_end || std::abs(ap.outside) > p_.parallel_cutoff_distance) on_arc_ = false;
   }
-  double course_rate = 0;  // rad/s: the course's turn rate on an arc (+ clockwise)
-  if (!complete_ && on_arc_) {
+  double course_rate = 0;      // rad/s: the course's turn rate on an arc (+ clockwise)
+  Vec2 heading_current(0, 0);  // the heading points along v - this (the water turn's current)
+  if (!complete_ && on_arc_ && water_turn) {
+    // The corner through the water: the planned velocity through the water plus the current,
+    // and the way back to the planned track as the approach to a leg (path_follower.hpp).
+    const Vec2& p1 = pts_[static_cast<std::size_t>(seg_)].position;
+    const Vec2& p2 = pts_[static_cast<std::size_t>(seg_ + 1)].position;
+    const Vec2 t = (p2 - p1).normalized();
+    out.segment = seg_;
+    out.on_arc = true;
+    out.cross_track = -(pos - p1).x() * t.y() + (pos - p1).y() * t.x();
+    out.along_track_remaining = (p2 - p1).norm() - t.dot(pos - p1);
+    out.remaining_path =
+        std::max(0.0, out.along_track_remaining) + tail_length_[static_cast<std::size_t>(seg_ + 1)];
+    const Vec2 w = water_velocity(wturn_, wturn_tau_);
+    const Vec2 to_ref = ref - pos;
+    const double e = to_ref.norm();
+    out.approach_speed = std::min(p_.approach_max_speed, e / p_.approach_divisor_s);
+    v = w + wturn_.current + (e > 1e-9 ? Vec2(to_ref / e * out.approach_speed) : Vec2(0, 0));
+    const double m = v.norm();
+    if (m > p_.max_speed) v *= p_.max_speed / m;
+    out.along_speed = arc_speed_;
+    out.turn_factor = arc_speed_ / p_.max_speed;
+    course_rate = (wturn_.dpsi > 0 ? 1.0 : -1.0) * p_.turn_rate;
+    heading_current = wturn_.current;
+    out.crab = crab();
+  } else if (!complete_ && on_arc_) {
     // The corner along its arc: U along it, the approach to it and the current correction's
     // radial part along the radius (path_follower.hpp).
     const Vec2& p1 = pts_[static_cast<std::size_t>(seg_)].position;
@@ -346,10 +443,18 @@ FollowerOutput PathFollower::update(const Vec2& pos, double heading, double dt) 
       const double angle = std::acos(std::clamp(t.dot(t2), -1.0, 1.0));
       double radius = 0, arc_speed = 0;
       arc_for(angle, radius, arc_speed);
-      out.wheel_over = radius > 0 ? radius * std::tan(angle / 2)
-                                  : wheel_over(angle, p_.max_speed * turn_factor(angle)) +
-                                        drift_lead(t, t2, angle);
-      if (radius > 0 && (p2 - pos).norm() < p_.turn_slowdown_distance + out.wheel_over) {
+      WaterTurn wt;
+      if (radius > 0 && p_.turn_arc_water)
+        wt = plan_water_turn(t, t2, current_full(), arc_speed, p_.turn_rate);
+      out.wheel_over = wt.valid     ? wt.lead
+                       : radius > 0 ? radius * std::tan(angle / 2)
+                                    : wheel_over(angle, p_.max_speed * turn_factor(angle)) +
+                                          drift_lead(t, t2, angle);
+      if (wt.valid && (p2 - pos).norm() < p_.turn_slowdown_distance + out.wheel_over) {
+        // At the water turn's ground speed before it starts (its speed through the water).
+        out.turn_factor = wt.ground1 / p_.max_speed;
+        along_speed = std::min(along_speed, wt.ground1);
+      } else if (radius > 0 && (p2 - pos).norm() < p_.turn_slowdown_distance + out.wheel_over) {
         out.turn_factor = arc_speed / p_.max_speed;  // at the arc's speed before it starts
         along_speed = std::min(along_speed, arc_speed);
       } else if (radius == 0 && (p2 - pos).norm() < p_.turn_slowdown_distance) {
@@ -385,6 +490,9 @@ FollowerOutput PathFollower::update(const Vec2& pos, double heading, double dt) 
         v_perp += normal * normal.dot(world_integral_);
       }
       v = t * along_speed + v_perp;
+      // The heading along the velocity through the water: the law's correction stands for the
+      // current across the leg; the current along it (current_full) matters at a turn's low speed.
+      if (p_.turn_arc_water) heading_current = t * t.dot(current_full());
       // Never above max_speed (the correction added to a full along-path speed went up to
       // 1.85 m/s for 1.5: issue 13 finding 2): scale, keeping the direction.
       const double m = v.norm();
@@ -431,7 +539,8 @@ FollowerOutput PathFollower::update(const Vec2& pos, double heading, double dt) 
       last_heading_valid_ = true;
     }
   } else if (speed > 1e-3) {
-    last_heading_ = std::atan2(v.y(), v.x());
+    const Vec2 hv = v - heading_current;
+    last_heading_ = std::atan2(hv.y(), hv.x());
     // (wrap_pi only with a lead: off an arc the heading stays bit for bit what it was.)
     if (course_rate != 0) last_heading_ = wrap_pi(last_heading_ + course_rate * p_.heading_lead_s);
     last_heading_valid_ = true;
@@ -441,8 +550,11 @@ FollowerOutput PathFollower::update(const Vec2& pos, double heading, double dt) 
   out.heading_valid = last_heading_valid_;
   if (along_velocity) {
     // Against the course (the lead on an arc is the heading loop's, not an error to slow for).
-    const double err = std::abs(angle_diff(std::atan2(v.y(), v.x()), heading));
-    out.heading_factor = std::max(0.0, 1.0 - err / p_.heading_slowdown_angle);
+    // Not on a water turn: it is planned at the hull's own turn rate, its speed held.
+    const Vec2 hv = v - heading_current;
+    const double err = std::abs(angle_diff(std::atan2(hv.y(), hv.x()), heading));
+    if (!(water_turn && out.on_arc))
+      out.heading_factor = std::max(0.0, 1.0 - err / p_.heading_slowdown_angle);
     v *= out.heading_factor;
   }
   out.velocity = v;

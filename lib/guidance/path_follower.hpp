@@ -126,6 +126,13 @@ struct FollowerParams {
   bool turn_arc = false;
   double turn_arc_inside_max = 0.5;  // m: the arc passes at most this far inside the corner
   double heading_lead_s = 0;         // s: the heading setpoint leads the course by rate * this
+  // turn_arc through the water (turn_arc_frame: water): the corner is a WaterTurn (turn_arc.hpp)
+  // at the arc's speed and turn_rate, planned from current_full() when the leg is left.
+  bool turn_arc_water = false;
+  // N per (m/s): the velocity PID's surge drag feed-forward (its k_drag). > 0: the node takes the
+  // current along the heading from that PID's surge integral (TILLER_PID_VELOCITY: at a steady
+  // speed I = -k_drag * current along the heading) and hands it to observe_current_along(); 0: off.
+  double surge_integral_drag = 0;
 };
 
 struct Waypoint {
@@ -214,8 +221,15 @@ class PathFollower {
   Vec2 crab_world_{0, 0};      // integral / adaptive: sin(crab) along the left normal, world frame,
                                // each leg's normal component kept (carry_state)
   TurnArc arc_;                // the corner being flown (turn_arc)
+  WaterTurn wturn_;            // ... through the water (turn_arc_water)
+  Vec2 wturn_origin_{0, 0};    // m NED: where it started
+  double wturn_tau_ = 0;       // s into it
   bool on_arc_ = false;
   double arc_speed_ = 0;  // m/s along it
+  Vec2 last_pos_{0, 0};   // at the last update() (observe_current_along's gate)
+  bool last_pos_valid_ = false;
+  int along_seg_ = -1;        // the leg the along-leg current was measured on (-1: none)
+  double along_current_ = 0;  // m/s along that leg
   double crab() const;
   // The arc's radius and speed for a turn of `angle` rad (turn_arc); radius 0: no arc.
   void arc_for(double angle, double& radius, double& speed) const;
@@ -225,6 +239,17 @@ class PathFollower {
   // The world-frame current estimate the law holds (m/s NED; what it has learnt on each leg of
   // the current across it): world_integral -correction, integral / adaptive -sin(crab) * speed.
   Vec2 current_estimate() const;
+  // A measurement of the current along `heading` (rad NED): `current` m/s (+ toward the heading),
+  // e.g. from the velocity PID's surge integral at a steady speed. Taken only on a leg (not after
+  // completion), at least kAlongSettleDistance past its first point and before its turn slow-down
+  // (by kAlongSettleDistance again), with the heading within 30 deg of the leg (at the position of
+  // the last update()). On that leg it replaces the law's estimate's part along the leg, which the
+  // law cannot observe (on the first leg it is zero): current_full(). Allocates nothing.
+  void observe_current_along(double heading, double current);
+  // current_estimate() with its part along the present leg measured (observe_current_along() on
+  // this leg), else current_estimate(). What the turn anticipation predicts the drift from.
+  Vec2 current_full() const;
+  static constexpr double kAlongSettleDistance = 15.0;  // m past a leg's first point
 
  private:
   void carry_state(int from_seg, int to_seg);

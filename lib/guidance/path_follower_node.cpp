@@ -1,6 +1,7 @@
 #include "guidance/path_follower_node.hpp"
 
 #include <algorithm>
+#include <cmath>
 #include <string_view>
 
 #include <tiller/path_progress_t.hpp>
@@ -34,6 +35,8 @@ PathFollowerNode::PathFollowerNode(const FollowerNodeParams& p)
   subscribe(channels::kMode, &PathFollowerNode::on_mode);
   subscribe(channels::kMissionCommand, &PathFollowerNode::on_command);
   subscribe(channels::kPathSpeed, &PathFollowerNode::on_speed);
+  if (p.follower.surge_integral_drag > 0)
+    subscribe(channels::kPidVelocity, &PathFollowerNode::on_pid);
   speeds_.path_id = -1;
   advertise<velocity_setpoint_t>(channels::kVelocitySetpoint);
   advertise<path_progress_t>(channels::kPathProgress);
@@ -176,6 +179,16 @@ void PathFollowerNode::on_speed(const path_speed_t& m, TimeUs) {
     return;
   }
   speeds_ = m;
+}
+
+void PathFollowerNode::on_pid(const pid_terms_t& m, TimeUs) {
+  // A tuning message: taken only when it is the velocity PID's, finite and steady in surge.
+  if (!(p_.follower.surge_integral_drag > 0) || m.controller != "velocity" ||
+      m.integrator_frozen[0] || !std::isfinite(m.i[0]) || !std::isfinite(m.setpoint[0]) ||
+      !std::isfinite(m.measured[0]) || std::abs(m.setpoint[0] - m.measured[0]) > kSteadySurgeError)
+    return;
+  if (!follower_.has_path() || paused_ || dead_reckoning_) return;
+  follower_.observe_current_along(heading_, -m.i[0] / p_.follower.surge_integral_drag);
 }
 
 bool PathFollowerNode::holding_course(TimeUs now) const {

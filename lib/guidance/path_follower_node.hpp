@@ -10,6 +10,11 @@
 //   RESUME   follow the paused path again, from where the vehicle is;
 //   ABORT, RELEASE, and a cancel (0 points)  drop the path; repeats of the dropped path_id
 //            (tiller-mission sends its path every second) are ignored, a new path_id starts.
+// With follower.surge_integral_drag > 0 it also listens to TILLER_PID_VELOCITY (pid_terms_t of
+// controller "velocity"): at a steady surge speed (setpoint and measurement within
+// kSteadySurgeError, the integrator not frozen) the surge integral over that drag, negated, is the
+// current along the heading (m/s), handed to PathFollower::observe_current_along with the latest
+// odometry's heading: the part of the current along a leg that the cross-track law cannot see.
 // At rate_hz it publishes
 //   TILLER_VELOCITY_SETPOINT  velocity [north east 0] m/s (FRAME_NED) and target heading rad;
 //                             inactive when there is no path or the odometry is stale;
@@ -33,6 +38,7 @@
 #include <tiller/odometry_t.hpp>
 #include <tiller/path_speed_t.hpp>
 #include <tiller/path_t.hpp>
+#include <tiller/pid_terms_t.hpp>
 
 #include "guidance/follower_config.hpp"
 #include "guidance/path_follower.hpp"
@@ -49,6 +55,8 @@ class PathFollowerNode : public Node {
   void on_mode(const controller_mode_t& m, TimeUs now);
   void on_command(const mission_command_t& m, TimeUs now);
   void on_speed(const path_speed_t& m, TimeUs now);
+  void on_pid(const pid_terms_t& m, TimeUs now);
+  static constexpr double kSteadySurgeError = 0.02;  // m/s
   void on_tick(TimeUs now) override;
 
   const PathFollower& follower() const { return follower_; }

@@ -38,4 +38,45 @@ ArcPosition locate(const TurnArc& arc, const Eigen::Vector2d& pos) {
   return p;
 }
 
+WaterTurn plan_water_turn(const Eigen::Vector2d& t1, const Eigen::Vector2d& t2,
+                          const Eigen::Vector2d& current, double speed, double rate) {
+  WaterTurn w;
+  const double angle = std::acos(std::clamp(t1.dot(t2), -1.0, 1.0));
+  if (!(rate > 0) || !(speed > 0) || !current.allFinite() || angle < 1e-3 || angle > 2 * kPi / 3)
+    return w;
+  w.ground1 = std::max(kWaterTurnMinGroundSpeed, speed + current.dot(t1));
+  w.ground2 = std::max(kWaterTurnMinGroundSpeed, speed + current.dot(t2));
+  const Eigen::Vector2d w1 = w.ground1 * t1 - current, w2 = w.ground2 * t2 - current;
+  w.mag1 = w1.norm();
+  w.mag2 = w2.norm();
+  if (w.mag1 < 0.05 || w.mag2 < 0.05) return w;
+  w.current = current;
+  w.psi1 = std::atan2(w1.y(), w1.x());
+  w.dpsi = angle_diff(std::atan2(w2.y(), w2.x()), w.psi1);
+  w.duration = std::abs(w.dpsi) / rate;
+  w.valid = true;
+  w.displacement = ground_offset(w, w.duration);
+  // Start at corner - t1 L, end on the outgoing line: n2 . (D - t1 L) = 0.
+  const Eigen::Vector2d n2(-t2.y(), t2.x());
+  const double across = n2.dot(t1);  // sin(angle), signed
+  w.lead = std::max(0.1, n2.dot(w.displacement) / across);
+  return w;
+}
+
+Eigen::Vector2d water_velocity(const WaterTurn& w, double tau) {
+  if (!w.valid) return {0, 0};
+  const double f = w.duration > 0 ? std::clamp(tau / w.duration, 0.0, 1.0) : 1.0;
+  const double psi = w.psi1 + w.dpsi * f;
+  return (w.mag1 + (w.mag2 - w.mag1) * f) * Eigen::Vector2d(std::cos(psi), std::sin(psi));
+}
+
+Eigen::Vector2d ground_offset(const WaterTurn& w, double tau) {
+  Eigen::Vector2d d(0, 0);
+  if (!w.valid) return d;
+  tau = std::clamp(tau, 0.0, w.duration);
+  const double h = tau / kWaterTurnSteps;
+  for (int k = 0; k < kWaterTurnSteps; ++k) d += (water_velocity(w, (k + 0.5) * h) + w.current) * h;
+  return d;
+}
+
 }  // namespace tiller::guidance

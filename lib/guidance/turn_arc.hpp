@@ -38,4 +38,36 @@ struct ArcPosition {
 };
 ArcPosition locate(const TurnArc& arc, const Eigen::Vector2d& pos);
 
+// A corner flown through the water (turn_arc_frame: water): an underactuated boat cannot push
+// sideways, so its heading points along its velocity through the water w = (ground velocity) - c,
+// c the current, and it turns at its own rate. At `speed` through the water along each leg (over
+// ground speed + c . t, at least kWaterTurnMinGroundSpeed), w turns from w1 = U1 t1 - c to
+// w2 = U2 t2 - c (U the legs' ground speeds) at `rate` rad/s (the shorter way round), its
+// magnitude linear in time from |w1| to |w2|; the ground track is its integral plus c t (the arc
+// the hull flies in the water, carried by the current). World frame: local NED [north east] m,
+// m/s. Not valid for a turn below 1 mrad or above 120 deg, without a rate, or with |w1| or |w2|
+// below 0.05 m/s.
+struct WaterTurn {
+  Eigen::Vector2d current{0, 0};       // m/s NED, held through the turn
+  double psi1 = 0;                     // rad NED: w1's direction
+  double dpsi = 0;                     // rad, signed (+ clockwise): w2's direction - w1's
+  double mag1 = 0, mag2 = 0;           // m/s: |w1|, |w2|
+  double ground1 = 0, ground2 = 0;     // m/s: U1, U2 (over ground along the legs)
+  double duration = 0;                 // s: |dpsi| / rate
+  Eigen::Vector2d displacement{0, 0};  // m over ground from the turn's start to its end
+  double lead = 0;  // m: where it starts, before the corner along t1, so that it ends on the
+                    // outgoing leg's line (at least 0.1 m: in the segment, before the corner)
+  bool valid = false;
+};
+
+WaterTurn plan_water_turn(const Eigen::Vector2d& t1, const Eigen::Vector2d& t2,
+                          const Eigen::Vector2d& current, double speed, double rate);
+// The velocity through the water `tau` s into the turn (clamped to [0, duration]), m/s NED.
+Eigen::Vector2d water_velocity(const WaterTurn& w, double tau);
+// The ground track's offset from the turn's start `tau` s into it (clamped), m: the integral of
+// water_velocity + current (kWaterTurnSteps midpoint steps over [0, tau]; allocates nothing).
+Eigen::Vector2d ground_offset(const WaterTurn& w, double tau);
+inline constexpr int kWaterTurnSteps = 48;
+inline constexpr double kWaterTurnMinGroundSpeed = 0.1;  // m/s
+
 }  // namespace tiller::guidance

@@ -44,5 +44,29 @@ TEST(MssCourse, StillWaterCornersAlongAnArc) {
   for (double o : arc.scores.corners.overshoot) EXPECT_LT(o, 0.1);
 }
 
+// Issue 35, the current along the first leg: the velocity PID's surge integral at a steady speed
+// (I = -k_drag * current along the heading, TILLER_PID_VELOCITY) gives the follower the current's
+// part along a leg, so the first corner's wheel-over knows the whole current. Toward 60 and 120
+// deg (0.3 m/s) the first corner overshot 1.55 and 1.11 m; with it 0.68 and 0.53 m (2026-12-07).
+TEST(MssCourse, TheSurgeIntegralGivesTheFirstCornerTheCurrent) {
+  for (const double toward : {60.0, 120.0}) {
+    RunSpec s;
+    s.mission_file = kSrc + "/config/missions/mss_otter.yaml";
+    s.settings.push_back(parse_setting("guidance.follower.surge_integral_drag=77.5"));
+    s.sim_args = {"--current-speed", "0.3", "--current-toward-deg", std::to_string(toward)};
+    const auto o = run(s);
+    ASSERT_TRUE(o.completed);
+    const auto& c = o.scores.corners;
+    ASSERT_EQ(c.overshoot.size(), 5u);
+    std::printf("toward %.0f: overshoot %.3f m (first %.3f), steady %.4f m, final %.3f m\n", toward,
+                c.max_overshoot, c.overshoot[0], c.steady_cross_track_rms,
+                o.scores.path_scores.final_position_error);
+    EXPECT_LT(c.overshoot[0], 0.8);  // 1.55 / 1.11 m without
+    EXPECT_LT(c.max_overshoot, 0.8);
+    EXPECT_EQ(o.scores.path_scores.waypoints_missed, 0);
+    EXPECT_LE(c.steady_cross_track_rms, 0.015);
+  }
+}
+
 }  // namespace
 }  // namespace tiller::runtool
