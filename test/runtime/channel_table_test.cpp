@@ -31,6 +31,8 @@
 #include "guidance/follower_config.hpp"
 #include "guidance/path_follower_node.hpp"
 #include "i2c/fake_bus.hpp"
+#include "mavlink/mavlink_config.hpp"
+#include "mavlink/mavlink_node.hpp"
 #include "mission/mission.hpp"
 #include "mission/mission_node.hpp"
 #include "mixer/mixer_node.hpp"
@@ -173,6 +175,9 @@ std::vector<Program> programs() {
           [](const std::string&, const std::string&, const std::optional<mission::GeoPoint>&) {
             return mission::Mission{};
           }));
+  add("tiller-mavlink",
+      std::make_unique<mavlink::MavlinkNode>(
+          mavlink::load_mavlink_file(kRoot + "/config/mavlink/usv_sim.yaml").node));
   static i2c::FakeBus i2c;  // the sensor drivers' nodes on an empty fake bus
   add("tiller-pressure",
       std::make_unique<sensors::PressureNode>(

@@ -44,6 +44,8 @@
 #include "i2c/fake_bus.hpp"
 #include "launch/launch_file.hpp"
 #include "launch/monitor.hpp"
+#include "mavlink/mavlink_config.hpp"
+#include "mavlink/mavlink_node.hpp"
 #include "mission/mission.hpp"
 #include "mission/mission_node.hpp"
 #include "mixer/mixer_node.hpp"
@@ -230,6 +232,13 @@ std::vector<NodeCase> node_cases() {
                  return mission::Mission{};
                });
          }});
+  }
+  for (const auto& f : shipped("mavlink")) {
+    out.push_back({"MavlinkNode", "tiller-mavlink " + rel(f), [f](InputContext& ctx) {
+                     ctx.thrusters = {"port", "starboard"};  // it reports any vehicle's
+                     return std::make_unique<mavlink::MavlinkNode>(
+                         mavlink::load_mavlink_file(f).node);
+                   }});
   }
   for (const auto& f : shipped("sensors")) {
     if (fs::path(f).filename().string().rfind("imu", 0) != 0) continue;
