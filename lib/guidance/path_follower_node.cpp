@@ -35,8 +35,7 @@ PathFollowerNode::PathFollowerNode(const FollowerNodeParams& p)
   subscribe(channels::kMode, &PathFollowerNode::on_mode);
   subscribe(channels::kMissionCommand, &PathFollowerNode::on_command);
   subscribe(channels::kPathSpeed, &PathFollowerNode::on_speed);
-  if (p.follower.surge_integral_drag > 0)
-    subscribe(channels::kPidVelocity, &PathFollowerNode::on_pid);
+  subscribe(channels::kPidVelocity, &PathFollowerNode::on_pid);  // used with surge_integral_drag
   speeds_.path_id = -1;
   advertise<velocity_setpoint_t>(channels::kVelocitySetpoint);
   advertise<path_progress_t>(channels::kPathProgress);

@@ -10,8 +10,8 @@
 //   RESUME   follow the paused path again, from where the vehicle is;
 //   ABORT, RELEASE, and a cancel (0 points)  drop the path; repeats of the dropped path_id
 //            (tiller-mission sends its path every second) are ignored, a new path_id starts.
-// With follower.surge_integral_drag > 0 it also listens to TILLER_PID_VELOCITY (pid_terms_t of
-// controller "velocity"): at a steady surge speed (setpoint and measurement within
+// It listens to TILLER_PID_VELOCITY too, and with follower.surge_integral_drag > 0 uses it
+// (pid_terms_t of controller "velocity"): at a steady surge speed (setpoint and measurement within
 // kSteadySurgeError, the integrator not frozen) the surge integral over that drag, negated, is the
 // current along the heading (m/s), handed to PathFollower::observe_current_along with the latest
 // odometry's heading: the part of the current along a leg that the cross-track law cannot see.
