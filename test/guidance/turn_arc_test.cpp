@@ -88,5 +88,51 @@ TEST(TurnArc, FollowerFliesTheCornerAlongItsArcWithAHeadingLead) {
   EXPECT_NEAR(angle_diff(o.target_heading, std::atan2(o.velocity.y(), o.velocity.x())), 0, 1e-12);
 }
 
+// In still water the water turn is the fillet: a 90 deg turn at 0.3 m/s and 0.25 rad/s is the
+// arc of radius 1.2 m, started 1.2 m before the corner, ending 1.2 m along the next leg.
+TEST(WaterTurn, InStillWaterItIsTheFillet) {
+  const Vec2 t1(0, 1), t2(1, 0);  // east, then north: a left turn
+  const WaterTurn w = plan_water_turn(t1, t2, {0, 0}, 0.3, 0.25);
+  ASSERT_TRUE(w.valid);
+  EXPECT_NEAR(w.dpsi, -kPi / 2, 1e-12);
+  EXPECT_NEAR(w.duration, 2 * kPi, 1e-9);
+  EXPECT_NEAR(w.lead, 1.2, 1e-3);
+  EXPECT_NEAR(w.displacement.x(), 1.2, 1e-3);  // north
+  EXPECT_NEAR(w.displacement.y(), 1.2, 1e-3);  // east
+}
+
+// A current along the first leg (0.2 m/s east): the turn through the water is the same, the
+// boat carried 0.2 m/s east for its duration, so it starts that much earlier; the leg's ground
+// speed is the water speed plus the current along it.
+TEST(WaterTurn, ACurrentAlongTheLegMovesTheWheelOver) {
+  const Vec2 t1(0, 1), t2(1, 0);
+  const WaterTurn w = plan_water_turn(t1, t2, {0, 0.2}, 0.3, 0.25);
+  ASSERT_TRUE(w.valid);
+  EXPECT_NEAR(w.ground1, 0.5, 1e-12);
+  EXPECT_NEAR(w.ground2, 0.3, 1e-12);
+  // Ends on the outgoing line: the start (-lead along t1) plus the displacement has no east part.
+  EXPECT_NEAR((-t1 * w.lead + w.displacement).y(), 0, 1e-9);
+  EXPECT_GT(w.lead, 1.2 + 0.2 * 0.5 * w.duration);
+  EXPECT_NEAR(ground_offset(w, w.duration).x(), w.displacement.x(), 1e-12);
+}
+
+// The current along a leg (observe_current_along): replaces the estimate's part along the leg,
+// only in the leg's middle and with the heading near the leg's.
+TEST(WaterTurn, TheCurrentAlongALegIsTakenInTheLegsMiddle) {
+  FollowerParams p;
+  p.law = CrossTrackLaw::kWorldIntegral;
+  PathFollower f(p);
+  ASSERT_TRUE(f.set_path({{{0, 0}}, {{0, 200}}, {{150, 200}}}, {0, 0}, kPi / 2, false));
+  f.update({0, 5}, kPi / 2, 0.1);
+  f.observe_current_along(kPi / 2, 0.2);  // 5 m in: not yet
+  EXPECT_NEAR(f.current_full().y(), 0, 1e-12);
+  f.update({0, 100}, kPi / 2, 0.1);
+  f.observe_current_along(0, 0.2);  // heading 90 deg off the leg: not taken
+  EXPECT_NEAR(f.current_full().y(), 0, 1e-12);
+  f.observe_current_along(kPi / 2, 0.2);
+  EXPECT_NEAR(f.current_full().y(), 0.2, 1e-12);
+  EXPECT_NEAR(f.current_full().x(), 0, 1e-12);
+}
+
 }  // namespace
 }  // namespace tiller::guidance
