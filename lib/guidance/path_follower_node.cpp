@@ -181,6 +181,12 @@ void PathFollowerNode::on_speed(const path_speed_t& m, TimeUs) {
 }
 
 void PathFollowerNode::on_pid(const pid_terms_t& m, TimeUs) {
+  // Its contract first (every term finite): a bad one is counted whether or not it is used.
+  if (checks::check(m) != nullptr) {
+    if (!bad_pid_) bad_pid_ = &counter("rejected.pid_terms.nan");
+    reject(*bad_pid_);
+    return;
+  }
   // A tuning message: taken only when it is the velocity PID's, finite and steady in surge.
   if (!(p_.follower.surge_integral_drag > 0) || m.controller != "velocity" ||
       m.integrator_frozen[0] || !std::isfinite(m.i[0]) || !std::isfinite(m.setpoint[0]) ||

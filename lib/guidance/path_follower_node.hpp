@@ -95,6 +95,7 @@ class PathFollowerNode : public Node {
   std::int64_t* range_odometry_ = nullptr;    // made on first use
   std::int64_t* invalid_odometry_ = nullptr;  // made on first use
   std::int64_t* bad_mode_ = nullptr;          // made on first use
+  std::int64_t* bad_pid_ = nullptr;           // made on first use
   std::int64_t* bad_command_ = nullptr;       // made on first use
   std::int64_t* dropped_repeats_ = nullptr;   // made on first use
   std::int64_t* invalid_path_;
