@@ -25,11 +25,6 @@ namespace {
 using namespace tiller;
 namespace fs = std::filesystem;
 
-void write(const fs::path& p, const std::string& text) {
-  fs::create_directories(p.parent_path());
-  std::ofstream(p) << text;
-}
-
 int identify_command(const app::Args& a, const std::string& log) {
   const std::string vehicle = app::resolve_path(a.get("vehicle"));
   const std::string name = fs::path(vehicle).stem().string();
@@ -68,15 +63,8 @@ int identify_command(const app::Args& a, const std::string& log) {
   const tune::Proposal p = tune::propose(id, vehicle, control, guidance);
   std::fputs(tune::proposal_report(p).c_str(), stdout);
   if (!a.get("out").empty()) {
+    tune::write_proposal(p, a.get("out"));
     const fs::path out = a.get("out");
-    for (const tune::ConfigFile* f : {&p.vehicle, &p.control, &p.guidance}) {
-      // DIR/config/<kind>/<file>: the files reference each other as config/..., which
-      // resolves inside DIR first (relative to the file's folder or one of its parents).
-      const fs::path rel = fs::path("config") / fs::path(f->path).parent_path().filename() /
-                           fs::path(f->path).filename();
-      write(out / rel, tune::join_lines(f->after));
-    }
-    write(out / "tune.diff", p.diff());
     std::printf("wrote %s/config/... and %s/tune.diff (apply with git apply, after review)\n",
                 out.c_str(), out.c_str());
   }

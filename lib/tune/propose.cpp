@@ -2,6 +2,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <filesystem>
 #include <fstream>
 #include <sstream>
 #include <stdexcept>
@@ -50,7 +51,9 @@ ConfigFile read(const std::string& path) {
   std::stringstream ss;
   ss << in.rdbuf();
   ConfigFile f;
-  f.path = path;
+  // As the diff names it: relative to the current directory (the repository), so that
+  // `git apply DIR/tune.diff` finds it.
+  f.path = std::filesystem::proximate(path).string();
   f.before = split_lines(ss.str());
   f.after = f.before;
   return f;
@@ -195,6 +198,22 @@ Proposal propose(const Identified& id, const std::string& vehicle_file,
       change(p.guidance, {"follower", "turn_rate"}, "", v, v * p.r_max / p.r_max_ref);
   }
   return p;
+}
+
+void write_proposal(const Proposal& p, const std::string& dir) {
+  namespace fs = std::filesystem;
+  const auto write = [](const fs::path& f, const std::string& text) {
+    fs::create_directories(f.parent_path());
+    std::ofstream out(f);
+    out << text;
+    if (!out) throw std::runtime_error(f.string() + ": cannot write");
+  };
+  for (const ConfigFile* f : {&p.vehicle, &p.control, &p.guidance}) {
+    const fs::path rel = fs::path("config") / fs::path(f->path).parent_path().filename() /
+                         fs::path(f->path).filename();
+    write(fs::path(dir) / rel, join_lines(f->after));
+  }
+  write(fs::path(dir) / "tune.diff", p.diff());
 }
 
 }  // namespace tiller::tune

@@ -11,9 +11,7 @@
 //     keeps its poles; i_limit times d / d_ref;
 //   guidance: turn_rate times r_max / r_max_ref, r_max the steady yaw rate at the yaw loop's
 //     largest torque (velocity_pid.yaw.max_output = d r + d2 r^2): the turn the boat really makes
-//     (docs/autonomy.md). turn_drift_rate is kept: scaled the same way it moved the wheel-over
-//     earlier by the drift lead and cut inside the 1 m radius at 3-5 corners of the MSS course
-//     (docs/tuning.md, "Identifying the model");
+//     (docs/autonomy.md); turn_drift_rate is kept (docs/tuning.md, "Identifying the model");
 //   vehicle file: the identified mass (yaw: plus the file's m23^2 / m22, since a pivot measures
 //     m33 - m23^2 / m22), damping and thruster time constant, so what derives from it
 //     (braking_decel, the Munk compensation) follows.
@@ -59,5 +57,9 @@ struct Proposal {
 // file and key that is missing.
 Proposal propose(const Identified& id, const std::string& vehicle_file,
                  const std::string& control_file, const std::string& guidance_file);
+
+// Writes the proposed files as DIR/config/<kind>/<file> (they reference each other as
+// config/..., which resolves inside DIR first) and DIR/tune.diff.
+void write_proposal(const Proposal& p, const std::string& dir);
 
 }  // namespace tiller::tune

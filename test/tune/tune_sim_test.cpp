@@ -116,12 +116,7 @@ TEST(TuneSim, IdentifiesAnUnseenVehicleAndItsGainsFlyTheCourse) {
               kSrc + "/config/guidance/otter.yaml");
   std::printf("%s", proposal_report(p).c_str());
   const fs::path out = fs::temp_directory_path() / ("tune_sim_test_" + std::to_string(::getpid()));
-  for (const ConfigFile* f : {&p.vehicle, &p.control, &p.guidance}) {
-    const fs::path rel = fs::path("config") / fs::path(f->path).parent_path().filename() /
-                         fs::path(f->path).filename();
-    fs::create_directories((out / rel).parent_path());
-    std::ofstream(out / rel) << join_lines(f->after);
-  }
+  write_proposal(p, out.string());
 
   const auto fly = [&](bool proposed, bool unseen, const std::vector<std::string>& current) {
     runtool::RunSpec s;
