@@ -26,7 +26,8 @@ using namespace tiller;
 namespace {
 const char* kSimFlags[] = {
     "odometry",    "sensors",       "gnss-outage",        "seed",       "north",        "east",
-    "heading-deg", "current-speed", "current-toward-deg", "mass-scale", "damping-scale"};
+    "heading-deg", "current-speed", "current-toward-deg", "mass-scale", "damping-scale",
+    "dvl-outage",  "force-step"};
 
 app::Spec spec() {
   app::Spec s{

@@ -15,12 +15,15 @@ using config::Value;
 
 constexpr double kDegToRad = M_PI / 180.0;
 
-SensorTiming timing(const Value& s, double default_hz, TimeUs step_us) {
+// `whole_steps` false (the DVL): any rate in `rates`; it samples at the first step at or after
+// each multiple of its period.
+SensorTiming timing(const Value& s, double default_hz, TimeUs step_us, bool whole_steps = true,
+                    Range rates = {0.01, 1000.0}) {
   SensorTiming t;
   t.enabled = s.boolean("enabled");
-  const double hz = s.number_or("rate_hz", default_hz, {0.01, 1000.0});
+  const double hz = s.number_or("rate_hz", default_hz, rates);
   t.period_us = from_hz(hz);
-  if (t.period_us % step_us != 0)
+  if (whole_steps && t.period_us % step_us != 0)
     s.at("rate_hz").fail("a rate whose period is a whole number of the simulator's steps (" +
                          std::to_string(step_us) + " us)");
   const double max_latency = to_seconds(t.period_us) * SensorTiming::kMaxLatencyPeriods;
@@ -151,6 +154,36 @@ void load_leak(const Value& s, TimeUs step_us, SensorParams& p) {
   p.leak.wet_after_s = s.number_or("wet_after_s", -1.0, {-1.0, 1e7});
 }
 
+void load_dvl(const Value& s, TimeUs step_us, SensorParams& p) {
+  // Water Linked DVL-A50: velocity reports at 4-15 Hz depending on the altitude; 1..30 Hz
+  // covers it and other DVLs.
+  p.dvl_timing = timing(s, 8.0, step_us, false, {1.0, 30.0});
+  DvlModelParams& d = p.dvl;
+  d.velocity_std_m_s = s.number_or("velocity_std_m_s", d.velocity_std_m_s, {0.0, 1.0});
+  if (s.has("bias_m_s")) {
+    const auto b = s.numbers("bias_m_s", 3, {-1.0, 1.0});
+    for (std::size_t i = 0; i < 3; ++i) d.bias_m_s[i] = b[i];
+  }
+  // The seabed is required when the DVL is on (what it measures depends on it).
+  d.seabed_depth_m = p.dvl_timing.enabled
+                         ? s.number("seabed_depth_m", {0.0, 1e3})
+                         : s.number_or("seabed_depth_m", d.seabed_depth_m, {0.0, 1e3});
+  d.min_altitude_m = s.number_or("min_altitude_m", d.min_altitude_m, {0.0, 100.0});
+  d.max_altitude_m = s.number_or("max_altitude_m", d.max_altitude_m, {0.01, 1e3});
+  if (!(d.min_altitude_m < d.max_altitude_m))
+    s.at(s.has("max_altitude_m") ? "max_altitude_m" : "min_altitude_m")
+        .fail("min_altitude_m < max_altitude_m (" + std::to_string(d.min_altitude_m) + " and " +
+              std::to_string(d.max_altitude_m) + " m)");
+  if (const auto outs = s.find("outages")) {
+    if (!outs->is_sequence()) outs->fail("a list of {start_s, duration_s}");
+    for (const auto& o : outs->items()) {
+      const double start = o.number("start_s", {0.0, 1e7});
+      const double dur = o.number("duration_s", {0.0, 1e7});
+      p.dvl_outages.push_back({from_seconds(start), from_seconds(start + dur)});
+    }
+  }
+}
+
 }  // namespace
 
 SensorParams load_sensor_params(const Value& root, TimeUs step_us) {
@@ -163,6 +196,7 @@ SensorParams load_sensor_params(const Value& root, TimeUs step_us) {
   if (const auto s = root.find("pressure")) load_pressure(*s, step_us, p);
   if (const auto s = root.find("power")) load_power(*s, step_us, p);
   if (const auto s = root.find("leak")) load_leak(*s, step_us, p);
+  if (const auto s = root.find("dvl")) load_dvl(*s, step_us, p);
   if (root.has("datum") && !root.has("gnss")) root.at("datum").mark_used();
   return p;
 }

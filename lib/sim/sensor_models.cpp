@@ -252,4 +252,31 @@ void LeakModel::sample(TimeUs t, TimeUs since_start, leak_t& o) {
   o.any_wet = wet && n > 0;
 }
 
+// ---------------------------------------------------------------- DVL
+DvlModel::DvlModel(const DvlModelParams& p, std::uint64_t seed) : p_(p), rng_(seed) {
+  if (!(p.min_altitude_m >= 0 && p.min_altitude_m < p.max_altitude_m && p.max_altitude_m <= 1e3))
+    throw std::invalid_argument("DvlModel: expected 0 <= min_altitude_m < max_altitude_m <= 1000");
+}
+
+void DvlModel::sample(TimeUs t, const TrueState& s, dvl_t& o) {
+  double n[3];
+  for (double& x : n) x = rng_.normal();
+  const double altitude = p_.seabed_depth_m - s.eta[2];
+  const bool lock = altitude >= p_.min_altitude_m && altitude <= p_.max_altitude_m;
+  o.utime = std::max<TimeUs>(t, 0);  // time of validity: the ping's centre
+  o.bottom_lock = lock;
+  for (double& c : o.velocity_covariance) c = 0;
+  const double sd = p_.velocity_std_m_s;
+  for (int i = 0; i < 3; ++i) {
+    const auto k = static_cast<std::size_t>(i);
+    o.velocity[i] = lock ? std::clamp(s.nu[i] + p_.bias_m_s[k] + sd * n[i], -20.0, 20.0) : 0.0;
+    if (lock) o.velocity_covariance[4 * i] = sd * sd;
+  }
+  o.fom = lock ? sd : DvlModelParams::kNoLockFom;
+  o.altitude = lock ? altitude : -1.0;
+  o.beams_valid = lock ? 4 : 0;
+  o.status = 0;
+  o.sensor = "sim";
+}
+
 }  // namespace tiller::sim

@@ -10,6 +10,9 @@
 //   BatteryModel   power_t      a battery: thruster power from thrust (P = k |T|^1.5), voltage
 //                               sagging with the charge drawn and the load (OCV - I R)
 //   LeakModel      leak_t       dry probes, until a configured time makes them wet
+//   DvlModel       dvl_t        bottom-track velocity: the true body-FRD velocity over ground
+//                               plus white noise and a constant bias per axis; the altitude
+//                               above a flat seabed; no bottom lock outside its altitude range
 // Each model takes the time and the state as arguments and draws from its own seeded generator
 // (sensor_noise.hpp); no clock, no heap per sample. The rates, latencies and dropouts are
 // applied by SensorSuite (sensor_suite.hpp).
@@ -21,6 +24,7 @@
 #include <string>
 #include <vector>
 
+#include <tiller/dvl_t.hpp>
 #include <tiller/gnss_fix_t.hpp>
 #include <tiller/heading_t.hpp>
 #include <tiller/imu_t.hpp>
@@ -200,6 +204,36 @@ class LeakModel {
 
  private:
   LeakModelParams p_;
+};
+
+// ---------------------------------------------------------------- DVL
+// A Doppler velocity log looking down (Water Linked DVL-A50 class) at the reference point,
+// its axes the body's (the driver has applied the mounting rotation). The seabed is flat at
+// seabed_depth_m; the altitude is seabed_depth_m - depth. With the altitude in
+// [min_altitude_m, max_altitude_m] it has bottom lock: velocity = nu[0..2] (over ground, not
+// relative to the water) + bias + std * N(0, 1) per axis, fom = std, covariance diagonal std^2,
+// 4 beams valid. Outside it: no lock (velocity 0, altitude -1, covariance 0, fom kNoLockFom,
+// beams_valid 0), as dvl_t's contract asks.
+struct DvlModelParams {
+  double velocity_std_m_s = 0.005;           // white, per axis, 1-sigma (also the reported fom)
+  std::array<double, 3> bias_m_s{};          // constant, per axis (u v w), m/s
+  double seabed_depth_m = 20;                // m below the surface (NED d = 0), flat bottom
+  double min_altitude_m = 0.05;              // A50: 0.05 m
+  double max_altitude_m = 50;                // A50: 50 m
+  static constexpr double kNoLockFom = 100;  // dvl_t's maximum: no usable velocity
+};
+
+class DvlModel {
+ public:
+  DvlModel(const DvlModelParams& p, std::uint64_t seed);
+  // Three normals are drawn per sample whether or not there is a lock, so losing the bottom
+  // does not shift the noise of later samples.
+  void sample(TimeUs t, const TrueState& s, dvl_t& out);
+  const DvlModelParams& params() const { return p_; }
+
+ private:
+  DvlModelParams p_;
+  SensorRng rng_;
 };
 
 }  // namespace tiller::sim

@@ -22,25 +22,36 @@ SensorSuite::SensorSuite(const SensorParams& p, std::uint64_t seed)
       pressure_model_(p.pressure, mix(seed, 4)),
       battery_(p.power, mix(seed, 5)),
       leak_model_(p.leak),
-      dropout_rng_(mix(seed, 6)) {
+      dvl_model_(p.dvl, mix(seed, 7)),
+      dropout_rng_(mix(seed, 6)),
+      dvl_dropout_rng_(mix(seed, 8)) {
   // The leak message holds a vector of names: shape every slot now (no allocation per sample).
   leak_model_.sample(0, 0, leak_msg_);
   leak_q_.reserve_like(leak_msg_);
+  dvl_msg_.sensor = "sim";
+  dvl_q_.reserve_like(dvl_msg_);
 }
 
 void SensorSuite::set_drop_counters(std::int64_t* gnss, std::int64_t* imu, std::int64_t* heading,
-                                    std::int64_t* pressure, std::int64_t* power,
-                                    std::int64_t* leak) {
+                                    std::int64_t* pressure, std::int64_t* power, std::int64_t* leak,
+                                    std::int64_t* dvl) {
   gnss_s_.dropped = gnss;
   imu_s_.dropped = imu;
   heading_s_.dropped = heading;
   pressure_s_.dropped = pressure;
   power_s_.dropped = power;
   leak_s_.dropped = leak;
+  dvl_s_.dropped = dvl;
 }
 
 bool SensorSuite::gnss_in_outage(TimeUs since_start) const {
   for (const auto& o : p_.gnss_outages)
+    if (since_start >= o.start_us && since_start < o.end_us) return true;
+  return false;
+}
+
+bool SensorSuite::dvl_in_outage(TimeUs since_start) const {
+  for (const auto& o : p_.dvl_outages)
     if (since_start >= o.start_us && since_start < o.end_us) return true;
   return false;
 }
@@ -57,8 +68,8 @@ bool SensorSuite::due(Slot& slot, const SensorTiming& timing, TimeUs t, double& 
   return true;
 }
 
-bool SensorSuite::lost(Slot& slot, const SensorTiming& timing) {
-  if (!(timing.dropout_probability > 0) || dropout_rng_.uniform() >= timing.dropout_probability)
+bool SensorSuite::lost(Slot& slot, const SensorTiming& timing, SensorRng& rng) {
+  if (!(timing.dropout_probability > 0) || rng.uniform() >= timing.dropout_probability)
     return false;
   if (slot.dropped) ++*slot.dropped;
   return true;
@@ -77,33 +88,45 @@ void SensorSuite::step(TimeUs t, double dt, const TrueState& s) {
   if (due(gnss_s_, p_.gnss_timing, t, dts)) {
     gnss_model_.step_bias(dts);
     gnss_model_.sample(t, s, !gnss_in_outage(since), gnss_msg_);
-    if (!lost(gnss_s_, p_.gnss_timing) && !gnss_q_.push(gnss_msg_, t + p_.gnss_timing.latency_us))
+    if (!lost(gnss_s_, p_.gnss_timing, dropout_rng_) &&
+        !gnss_q_.push(gnss_msg_, t + p_.gnss_timing.latency_us))
       if (gnss_s_.dropped) ++*gnss_s_.dropped;
   }
   if (due(imu_s_, p_.imu_timing, t, dts)) {
     imu_model_.step_bias(dts);
     imu_model_.sample(t, s, imu_msg_);
-    if (!lost(imu_s_, p_.imu_timing)) imu_q_.push(imu_msg_, t + p_.imu_timing.latency_us);
+    if (!lost(imu_s_, p_.imu_timing, dropout_rng_))
+      imu_q_.push(imu_msg_, t + p_.imu_timing.latency_us);
   }
   if (due(heading_s_, p_.heading_timing, t, dts)) {
     heading_model_.step_bias(dts);
     heading_model_.sample(t, s, heading_msg_);
-    if (!lost(heading_s_, p_.heading_timing))
+    if (!lost(heading_s_, p_.heading_timing, dropout_rng_))
       heading_q_.push(heading_msg_, t + p_.heading_timing.latency_us);
   }
   if (due(pressure_s_, p_.pressure_timing, t, dts)) {
     pressure_model_.step_bias(dts);
     pressure_model_.sample(t, s, pressure_msg_);
-    if (!lost(pressure_s_, p_.pressure_timing))
+    if (!lost(pressure_s_, p_.pressure_timing, dropout_rng_))
       pressure_q_.push(pressure_msg_, t + p_.pressure_timing.latency_us);
   }
   if (due(power_s_, p_.power_timing, t, dts)) {
     battery_.sample(t, power_msg_);
-    if (!lost(power_s_, p_.power_timing)) power_q_.push(power_msg_, t + p_.power_timing.latency_us);
+    if (!lost(power_s_, p_.power_timing, dropout_rng_))
+      power_q_.push(power_msg_, t + p_.power_timing.latency_us);
   }
   if (due(leak_s_, p_.leak_timing, t, dts)) {
     leak_model_.sample(t, since, leak_msg_);
-    if (!lost(leak_s_, p_.leak_timing)) leak_q_.push(leak_msg_, t + p_.leak_timing.latency_us);
+    if (!lost(leak_s_, p_.leak_timing, dropout_rng_))
+      leak_q_.push(leak_msg_, t + p_.leak_timing.latency_us);
+  }
+  // In an outage the DVL is sampled (its noise drawn) but nothing is published: the driver is
+  // silent, not reporting a lost lock.
+  if (due(dvl_s_, p_.dvl_timing, t, dts)) {
+    dvl_model_.sample(t, s, dvl_msg_);
+    if (!dvl_in_outage(since) && !lost(dvl_s_, p_.dvl_timing, dvl_dropout_rng_) &&
+        !dvl_q_.push(dvl_msg_, t + p_.dvl_timing.latency_us))
+      if (dvl_s_.dropped) ++*dvl_s_.dropped;
   }
 }
 

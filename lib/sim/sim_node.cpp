@@ -133,6 +133,15 @@ SimParams load_sim_params(const config::Value& root) {
     p.noise.angular_velocity_std_rad_s =
         n->angle_deg_or("angular_velocity_std_deg", 0.0, {0.0, 90.0});
   }
+  if (auto d = root.find("disturbance")) {
+    if (auto f = d->find("force_step")) {
+      p.force_step.enabled = true;
+      p.force_step.at_us = from_seconds(f->number("at_s", {0.0, 1e7}));
+      const auto n = f->numbers("force_ned", 3, {-1e4, 1e4});
+      p.force_step.force_ned = sim::Vector3(n[0], n[1], n[2]);
+      p.force_step_key = f->file() + ":" + std::to_string(f->line()) + ": " + f->path();
+    }
+  }
   p.publish_odometry = root.choice_or("odometry", "truth", {"truth", "estimated"}) == "truth";
   if (root.has("sensors")) {
     const std::string f = root.string("sensors");
@@ -209,6 +218,14 @@ SimNode::SimNode(const SimParams& params, const SimVehicle& v)
                         " (" + v.vehicle.source_file +
                         ") has no dynamics.wind_coefficients, so the wind would do nothing");
   }
+  if (p_.force_step.enabled && surface_) {
+    throw config::Error(p_.force_step_key + ": expected no force step: the vehicle " +
+                        v.vehicle.name + " (" + v.vehicle.source_file +
+                        ") is surface_3dof and the outside force acts on underwater_6dof "
+                        "vehicles only");
+  }
+  if (p_.force_step.enabled && !p_.force_step.force_ned.allFinite())
+    throw std::invalid_argument("SimNode: the force step must be finite");
   subscribe(channels::kEscOutput, &SimNode::on_esc_output);
   if (p_.publish_odometry) {  // else tiller-nav's, with its datum
     advertise<odometry_t>(channels::kOdometry);
@@ -222,11 +239,13 @@ SimNode::SimNode(const SimParams& params, const SimVehicle& v)
   advertise<pressure_t>(channels::kPressure);
   advertise<power_t>(channels::kPower);
   advertise<leak_t>(channels::kLeak);
+  if (sensors_.enabled() && p_.sensors.dvl_timing.enabled) advertise<dvl_t>(channels::kDvl);
   if (sensors_.enabled()) {
-    sensors_.set_drop_counters(&counter("sensors.gnss.dropped"), &counter("sensors.imu.dropped"),
-                               &counter("sensors.heading.dropped"),
-                               &counter("sensors.pressure.dropped"),
-                               &counter("sensors.power.dropped"), &counter("sensors.leak.dropped"));
+    sensors_.set_drop_counters(
+        &counter("sensors.gnss.dropped"), &counter("sensors.imu.dropped"),
+        &counter("sensors.heading.dropped"), &counter("sensors.pressure.dropped"),
+        &counter("sensors.power.dropped"), &counter("sensors.leak.dropped"),
+        p_.sensors.dvl_timing.enabled ? &counter("sensors.dvl.dropped") : nullptr);
   }
   rej_name_ = &counter("rejected.esc_output.unknown_thruster");
   rej_unit_ = &counter("rejected.esc_output.unit");
@@ -326,6 +345,7 @@ void SimNode::on_tick(TimeUs now) {
   if (!started_) {
     started_ = true;
     sim_time_ = now;
+    start_time_ = now;
   }
   std::int64_t steps = (now - sim_time_) / p_.step_us;
   if (steps > p_.max_steps_per_tick) {
@@ -337,8 +357,11 @@ void SimNode::on_tick(TimeUs now) {
   sim::Environment env;
   env.wind = p_.wind_enabled;
   env.wind_ned = p_.wind.velocity_ned();
-  env.force_ned = disturbance_;
+  const TimeUs step_at = start_time_ + p_.force_step.at_us;
   for (std::int64_t k = 0; k < steps; ++k) {
+    // The step force acts on every step that starts at or after its time.
+    env.force_ned = disturbance_;
+    if (p_.force_step.enabled && sim_time_ >= step_at) env.force_ned += p_.force_step.force_ned;
     current_.step(dt);
     env.current_ned = current_.velocity_ned();
     const sim::Vector6 nu_before = model_.nu();

@@ -85,6 +85,17 @@ struct SimParams {
   // tiller-tune's identification): the vehicle file's mass matrix (and Coriolis mass matrix)
   // times mass_scale, its linear, quadratic and cross-flow damping times damping_scale.
   double mass_scale = 1, damping_scale = 1;
+  // A step force (config `disturbance.force_step`, tiller-sim --force-step AT_S:N,E,D): from
+  // at_us after the start on, force_ned (N, NED, at the reference point) is held on the
+  // vehicle, added to set_disturbance()'s. underwater_6dof only (SimNode refuses it on a surface
+  // vessel, naming `force_step_key`).
+  struct ForceStep {
+    bool enabled = false;
+    TimeUs at_us = 0;
+    sim::Vector3 force_ned = sim::Vector3::Zero();
+  };
+  ForceStep force_step;
+  std::string force_step_key = "disturbance.force_step";
 };
 
 // The vehicle's dynamics with `p`'s mass and damping scales applied (SimNode applies them).
@@ -106,7 +117,8 @@ SimVehicle load_sim_vehicle_file(const std::string& path);
 class SimNode : public Node {
  public:
   // Throws std::invalid_argument for a non-finite initial state, and config::Error (naming
-  // wind.enabled) when the wind is enabled for a vehicle it cannot act on.
+  // wind.enabled, or the force step's key) when the wind or a force step is given for a vehicle
+  // it cannot act on.
   SimNode(const SimParams& params, const SimVehicle& vehicle);
   // Loads the sim config file and the vehicle file it names.
   explicit SimNode(const std::string& config_path);
@@ -151,7 +163,8 @@ class SimNode : public Node {
   std::int64_t stale_seen_ = 0;
   std::array<double, sim::kMaxThrusters> commanded_{};
   bool started_ = false;
-  TimeUs sim_time_ = 0;  // time the model state is at (whole steps)
+  TimeUs sim_time_ = 0;    // time the model state is at (whole steps)
+  TimeUs start_time_ = 0;  // sim_time_ at the first tick
   TimeUs next_odom_ = 0, next_truth_ = 0, next_state_ = 0, next_datum_ = 0;
   odometry_t odom_{}, truth_{};
   sim_state_t state_{};

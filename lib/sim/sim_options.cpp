@@ -24,7 +24,7 @@ double number(const app::Args& a, const std::string& name, double lo, double hi,
                             "a finite number in [" + fmt(lo) + ", " + fmt(hi) + "] " + unit);
 }
 // "40:20,90:5" -> [40, 60) s and [90, 95) s.
-std::vector<sim::GnssOutage> parse_outages(const std::string& text) {
+std::vector<sim::GnssOutage> parse_outages(const std::string& text, const char* flag) {
   std::vector<sim::GnssOutage> out;
   std::size_t at = 0;
   while (at <= text.size()) {
@@ -46,13 +46,57 @@ std::vector<sim::GnssOutage> parse_outages(const std::string& text) {
          std::isfinite(dur) && start >= 0 && dur > 0 && start <= 1e7 && dur <= 1e7;
     if (!ok)
       throw std::runtime_error(
-          "--gnss-outage: expected START_S:DURATION_S (start >= 0, duration > 0, s; a comma "
-          "list for several, e.g. 40:20,90:5), got '" +
+          std::string("--") + flag +
+          ": expected START_S:DURATION_S (start >= 0, duration > 0, s; a comma list for "
+          "several, e.g. 40:20,90:5), got '" +
           text + "'");
     out.push_back({from_seconds(start), from_seconds(start + dur)});
     at = comma + 1;
   }
   return out;
+}
+
+// "30:0,20,0" -> from 30 s on, 20 N east. Every part a whole finite number: AT_S in [0, 1e7],
+// each force in [-1e4, 1e4] N.
+SimParams::ForceStep parse_force_step(const std::string& text) {
+  SimParams::ForceStep f;
+  bool ok = true;
+  const std::size_t colon = text.find(':');
+  double v[4] = {};
+  if (colon == std::string::npos) ok = false;
+  std::size_t at = 0;
+  for (int i = 0; ok && i < 4; ++i) {
+    const std::size_t end = i == 0 ? colon : i < 3 ? text.find(',', at) : text.size();
+    if (end == std::string::npos || end <= at) {
+      ok = false;
+      break;
+    }
+    const std::string part = text.substr(at, end - at);
+    if (part.find_first_of(" \t") != std::string::npos) {
+      ok = false;
+      break;
+    }
+    std::size_t n = 0;
+    try {
+      v[i] = std::stod(part, &n);
+    } catch (const std::exception&) {
+      ok = false;
+      break;
+    }
+    const double lim = i == 0 ? 1e7 : 1e4;
+    ok = n == part.size() && std::isfinite(v[i]) && v[i] >= (i == 0 ? 0.0 : -lim) && v[i] <= lim;
+    at = end + 1;
+  }
+  if (ok && text.find(':', colon + 1) != std::string::npos) ok = false;
+  if (!ok)
+    throw std::runtime_error(
+        "--force-step: expected AT_S:N,E,D (from AT_S s after the start on, in [0, 1e7], a force "
+        "of N, E, D newtons in NED, each in [-1e4, 1e4], e.g. 30:0,20,0), got '" +
+        text + "'");
+  f.enabled = true;
+  f.at_us = from_seconds(v[0]);
+  f.force_ned = sim::Vector3(v[1], v[2], v[3]);
+  return f;
 }
 
 }  // namespace
@@ -86,6 +130,14 @@ std::vector<app::Option> sim_options() {
        ""},
       {"gnss-outage", "START:DURATION",
        "no GNSS fix from START s after the start for DURATION s (a comma list for several)", ""},
+      {"dvl-outage", "START:DURATION",
+       "no TILLER_DVL at all from START s after the start for DURATION s (a comma list for "
+       "several; needs a sensors file with dvl: enabled)",
+       ""},
+      {"force-step", "AT_S:N,E,D",
+       "from AT_S s after the start on, hold an outside force of N,E,D newtons (NED) on the "
+       "vehicle (underwater_6dof only; replaces the config's disturbance.force_step)",
+       ""},
       {"leak-at", "S", "every leak probe turns wet S s after the start (0..1e7)", ""},
       {"battery-used-ah", "AH", "the battery starts with AH already drawn (0..capacity)", ""},
       {"mass-scale", "S",
@@ -130,7 +182,9 @@ SimOverrides sim_overrides(const app::Args& a) {
       throw std::runtime_error("--gnss-output: expected lcm, nmea or both, got '" + m + "'");
     o.gnss_output = m;
   }
-  if (given("gnss-outage")) o.gnss_outages = parse_outages(a.get("gnss-outage"));
+  if (given("gnss-outage")) o.gnss_outages = parse_outages(a.get("gnss-outage"), "gnss-outage");
+  if (given("dvl-outage")) o.dvl_outages = parse_outages(a.get("dvl-outage"), "dvl-outage");
+  if (given("force-step")) o.force_step = parse_force_step(a.get("force-step"));
   if (given("leak-at")) o.leak_at_s = number(a, "leak-at", 0, 1e7, "s");
   if (given("battery-used-ah")) o.battery_used_ah = number(a, "battery-used-ah", 0, 1e4, "Ah");
   if (given("mass-scale")) o.mass_scale = number(a, "mass-scale", 0.1, 10, "(a factor)");
@@ -209,6 +263,18 @@ void apply(const SimOverrides& o, SimParams& p) {
     need_sensors("gnss-outage");
     p.sensors.gnss_outages.insert(p.sensors.gnss_outages.end(), o.gnss_outages.begin(),
                                   o.gnss_outages.end());
+  }
+  if (!o.dvl_outages.empty()) {
+    need_sensors("dvl-outage");
+    if (!p.sensors.dvl_timing.enabled)
+      throw std::runtime_error("--dvl-outage: expected the sensors file (" + p.sensors.file +
+                               ") to enable dvl:, but it does not");
+    p.sensors.dvl_outages.insert(p.sensors.dvl_outages.end(), o.dvl_outages.begin(),
+                                 o.dvl_outages.end());
+  }
+  if (o.force_step) {
+    p.force_step = *o.force_step;
+    p.force_step_key = "--force-step";
   }
   if (o.leak_at_s) {
     need_sensors("leak-at");

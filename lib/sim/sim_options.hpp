@@ -13,6 +13,9 @@
 //   --gnss-output lcm|nmea|both    TILLER_GNSS from the simulator and/or NMEA for gpsd
 //   --gnss-outage START_S:DURATION_S   no GNSS fix for that long (s after the start; repeatable
 //                                  as a comma list: 40:20,90:5)
+//   --dvl-outage START_S:DURATION_S    no dvl_t at all for that long (a comma list, as above)
+//   --force-step AT_S:N,E,D        from AT_S s after the start on, an outside force of N, E, D
+//                                  newtons (NED) on the vehicle (underwater_6dof only)
 //   --leak-at S                    every leak probe turns wet S seconds after the start
 //   --battery-used-ah AH           the battery starts with AH already drawn
 //   --mass-scale S --damping-scale S   the vehicle's mass (with added mass and inertia) and its
@@ -45,6 +48,8 @@ struct SimOverrides {
   std::optional<bool> publish_odometry;
   std::optional<std::string> gnss_output;  // lcm | nmea | both
   std::vector<sim::GnssOutage> gnss_outages;
+  std::vector<sim::DvlOutage> dvl_outages;
+  std::optional<SimParams::ForceStep> force_step;
   std::optional<double> leak_at_s, battery_used_ah;
   std::optional<double> mass_scale, damping_scale;
   std::string nmea_link;  // tiller-sim only (the pseudo-terminal is I/O, not the node's)
