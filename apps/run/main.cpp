@@ -24,10 +24,11 @@
 using namespace tiller;
 
 namespace {
-const char* kSimFlags[] = {
-    "odometry",    "sensors",       "gnss-outage",        "seed",       "north",        "east",
-    "heading-deg", "current-speed", "current-toward-deg", "mass-scale", "damping-scale",
-    "dvl-outage",  "force-step"};
+const char* kSimFlags[] = {"odometry",    "sensors",       "gnss-outage",
+                           "seed",        "north",         "east",
+                           "heading-deg", "current-speed", "current-toward-deg",
+                           "mass-scale",  "damping-scale", "dvl-outage",
+                           "force-step"};
 
 app::Spec spec() {
   app::Spec s{

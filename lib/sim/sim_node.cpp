@@ -239,7 +239,7 @@ SimNode::SimNode(const SimParams& params, const SimVehicle& v)
   advertise<pressure_t>(channels::kPressure);
   advertise<power_t>(channels::kPower);
   advertise<leak_t>(channels::kLeak);
-  if (sensors_.enabled() && p_.sensors.dvl_timing.enabled) advertise<dvl_t>(channels::kDvl);
+  advertise<dvl_t>(channels::kDvl);
   if (sensors_.enabled()) {
     sensors_.set_drop_counters(
         &counter("sensors.gnss.dropped"), &counter("sensors.imu.dropped"),
