@@ -49,6 +49,18 @@ int main(int argc, char** argv) {
     if (p.sensors.enabled)
       std::fprintf(stderr, "tiller-sim: simulated sensors from %s; odometry: %s\n",
                    p.sensors.file.c_str(), p.publish_odometry ? "truth" : "estimated (none)");
+    if (p.sensors.enabled && p.sensors.dvl_timing.enabled)
+      std::fprintf(stderr,
+                   "tiller-sim: DVL on TILLER_DVL at %.1f Hz, seabed at %.1f m, %zu outages\n",
+                   1.0 / to_seconds(p.sensors.dvl_timing.period_us), p.sensors.dvl.seabed_depth_m,
+                   p.sensors.dvl_outages.size());
+    if (p.force_step.enabled)
+      std::fprintf(stderr,
+                   "tiller-sim: a step force of [%.2f %.2f %.2f] N (NED) from %.2f s after the "
+                   "start (%s)\n",
+                   p.force_step.force_ned.x(), p.force_step.force_ned.y(),
+                   p.force_step.force_ned.z(), to_seconds(p.force_step.at_us),
+                   p.force_step_key.c_str());
     std::unique_ptr<sim::NmeaPty> pty;
     if (p.sensors.enabled && p.sensors.gnss_nmea && p.sensors.gnss_timing.enabled) {
       pty = std::make_unique<sim::NmeaPty>(o.nmea_link);
