@@ -98,6 +98,9 @@ DvlParsed parse_dvl_line(std::string_view line) {
   } catch (const Bad& b) {
     out.kind = DvlLine::kInvalid;
     out.why = t + ": " + b.why;
+  } catch (const json::exception& e) {  // a mistyped field read with value() (beam_valid: 1)
+    out.kind = DvlLine::kInvalid;
+    out.why = t + ": " + e.what();
   }
   return out;
 }
