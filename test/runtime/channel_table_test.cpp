@@ -40,6 +40,7 @@
 #include "nav/nav_params.hpp"
 #include "runtime/channels.hpp"
 #include "runtime/lockstep.hpp"
+#include "sensors/dvl_node.hpp"
 #include "sensors/gnss_node.hpp"
 #include "sensors/gpio.hpp"
 #include "sensors/imu_node.hpp"
@@ -184,6 +185,8 @@ std::vector<Program> programs() {
           sensors::load_pressure_file(kRoot + "/config/sensors/pressure_bar30.yaml"), i2c));
   add("tiller-gnss", std::make_unique<sensors::GnssNode>(
                          sensors::load_gnss_file(kRoot + "/config/sensors/gnss_gpsd.yaml")));
+  add("tiller-dvl", std::make_unique<sensors::DvlNode>(
+                        sensors::load_dvl_file(kRoot + "/config/sensors/dvl_a50.yaml")));
   add("tiller-imu", std::make_unique<sensors::ImuNode>(
                         sensors::load_imu_file(kRoot + "/config/sensors/imu_bno055.yaml"), i2c));
   static spi::FakeSpi spi;

@@ -54,6 +54,7 @@
 #include "runtime/channels.hpp"
 #include "runtime/lockstep.hpp"
 #include "sensors/ads1115_power_node.hpp"
+#include "sensors/dvl_node.hpp"
 #include "sensors/gnss_node.hpp"
 #include "sensors/gpio.hpp"
 #include "sensors/imu_node.hpp"
@@ -220,6 +221,12 @@ std::vector<NodeCase> node_cases() {
     if (fs::path(f).filename().string().rfind("gnss", 0) != 0) continue;
     out.push_back({"GnssNode", "tiller-gnss " + rel(f), [f](InputContext&) {
                      return std::make_unique<sensors::GnssNode>(sensors::load_gnss_file(f));
+                   }});
+  }
+  for (const auto& f : shipped("sensors")) {
+    if (fs::path(f).filename().string().rfind("dvl", 0) != 0) continue;
+    out.push_back({"DvlNode", "tiller-dvl " + rel(f), [f](InputContext&) {
+                     return std::make_unique<sensors::DvlNode>(sensors::load_dvl_file(f));
                    }});
   }
   for (const auto& f : shipped("cockpit")) {
