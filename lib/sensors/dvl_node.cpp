@@ -182,6 +182,8 @@ void DvlNode::set_link(bool up, const std::string& why, TimeUs now) {
   }
   link_up_ = up;
   link_why_ = why;
+  // The client's reasons may start with the address the status names already.
+  if (link_why_.rfind(where_ + ": ", 0) == 0) link_why_.erase(0, where_.size() + 2);
   update_health(now);
 }
 

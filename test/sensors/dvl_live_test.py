@@ -7,7 +7,8 @@ Usage (CTest runs it inside tools/netns-run, a private network namespace: the fa
 that namespace's loopback and LCM stays in it):
     dvl_live_test.py SOURCE_DIR BUILD_DIR
 
-The fake DVL accepts, sends 12 velocity reports at 20 Hz (10 with bottom lock, 2 without) mixed
+The fake DVL is not there for the first 0.8 s (its port refuses: FAULT "not connected ...",
+retried), then accepts, sends 12 velocity reports at 20 Hz (10 with bottom lock, 2 without) mixed
 with a malformed line, an invalid report, a dead-reckoning report and a command response, then
 closes the connection; it accepts the reconnection tiller-dvl makes (reconnect_s 0.3) and sends 8
 more reports with lock, then keeps the connection open and silent so that the heartbeat goes to
@@ -71,8 +72,7 @@ EXPECTED = 20  # velocity reports: 12 in the first connection (2 without lock), 
 
 server = socket.socket(socket.AF_INET, socket.SOCK_STREAM)
 server.setsockopt(socket.SOL_SOCKET, socket.SO_REUSEADDR, 1)
-server.bind(("127.0.0.1", 0))
-server.listen(2)
+server.bind(("127.0.0.1", 0))   # bound, not listening yet: the DVL is not there at first
 server.settimeout(10)
 port = server.getsockname()[1]
 done = threading.Event()
@@ -81,6 +81,8 @@ accepts = []
 
 def fake_dvl():
     try:
+        time.sleep(0.8)   # tiller-dvl starts first: refused, FAULT, retried every 0.3 s
+        server.listen(2)
         for n, lines in enumerate((FIRST, SECOND)):
             c, _ = server.accept()
             accepts.append(time.time())
@@ -110,9 +112,9 @@ try:
     procs["logger"] = sp.Popen(["lcm-logger", "--quiet", log], stdout=outs["logger"],
                                stderr=sp.STDOUT)
     time.sleep(0.3)
-    threading.Thread(target=fake_dvl, daemon=True).start()
     procs["dvl"] = sp.Popen([os.path.join(bindir, "tiller-dvl"), "--config", cfg], cwd=src,
                             stdout=outs["dvl"], stderr=sp.STDOUT)
+    threading.Thread(target=fake_dvl, daemon=True).start()
     done.wait(timeout=15)
     time.sleep(0.5)
     if procs["dvl"].poll() is not None:
@@ -198,6 +200,9 @@ else:
     if not any(s == "bottom lock, altitude 3.2 m, fom 0.004 m/s" and int(r["state"]) == 0
                for s, r in zip(statuses, hb)):
         fail("no OK heartbeat 'bottom lock, altitude 3.2 m, fom 0.004 m/s'")
+    refused = f"not connected to 127.0.0.1:{port}: Connection refused"
+    if not any(s == refused and int(r["state"]) == 2 for s, r in zip(statuses, hb)):
+        fail(f"no FAULT heartbeat '{refused}' before the DVL was there")
     if not any(s.startswith("no velocity report for ") and int(r["state"]) == 2
                for s, r in zip(statuses, hb)):
         fail("no FAULT heartbeat 'no velocity report for ...' while the DVL was silent")

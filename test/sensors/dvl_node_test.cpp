@@ -224,8 +224,11 @@ TEST(DvlNode, TimeoutAndLinkFaults) {
   n.set_link(false, "closed by the device", 4'050'000);
   EXPECT_EQ(status_at(n, c, 5'000'000),
             "not connected to 192.168.194.95:16171: closed by the device");
+  n.set_link(false, "192.168.194.95:16171: Connection refused", 5'100'000);
+  EXPECT_EQ(status_at(n, c, 6'000'000),
+            "not connected to 192.168.194.95:16171: Connection refused");
   n.count_link(2, 1, 3);
-  n.tick(6'000'000);
+  n.tick(7'000'000);
   EXPECT_EQ(n.counter_value("link.connects"), 2);
   EXPECT_EQ(n.counter_value("link.disconnects"), 1);
   EXPECT_EQ(n.counter_value("lines.overlong"), 3);
