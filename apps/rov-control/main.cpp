@@ -20,11 +20,12 @@ int main(int argc, char** argv) {
       argc, argv,
       {"tiller-rov-control",
        "The ROV's pilot modes (manual, stabilise, depth hold, heading hold, rate, surface, "
-       "position hold) and their per-axis controller; or sends one mode request (--mode).",
+       "position hold, depth and heading hold) and their per-axis controller; or sends one mode "
+       "request (--mode).",
        "config/control/seed001_rov6.yaml",
        {{"mode", "NAME",
          "send one mode request and exit: manual, stabilise, depth_hold, heading_hold, rate, "
-         "surface or position_hold",
+         "surface, position_hold or depth_heading_hold",
          ""},
         {"trust-position", "",
          "odometry without a covariance carries a valid position (the simulator's is exact)",
@@ -36,7 +37,7 @@ int main(int argc, char** argv) {
       if (mode < 0 || mode == controller_mode_t::MANUAL_CLOSED_LOOP ||
           mode == controller_mode_t::WAYPOINTING) {
         std::cerr << "tiller-rov-control: --mode: expected manual, stabilise, depth_hold, "
-                     "heading_hold, rate, surface or position_hold, got '"
+                     "heading_hold, rate, surface, position_hold or depth_heading_hold, got '"
                   << name << "'\n";
         return 2;
       }

@@ -118,7 +118,8 @@ void CockpitNode::on_mode(int client, const void* jp, TimeUs now) {
       {"HEADING_HOLD", controller_mode_t::HEADING_HOLD},
       {"RATE", controller_mode_t::RATE},
       {"SURFACE", controller_mode_t::SURFACE},
-      {"POSITION_HOLD", controller_mode_t::POSITION_HOLD}};
+      {"POSITION_HOLD", controller_mode_t::POSITION_HOLD},
+      {"DEPTH_HEADING_HOLD", controller_mode_t::DEPTH_HEADING_HOLD}};
   controller_mode_t c{};
   bool known = false;
   for (const auto& [name, value] : kModes) {
@@ -130,7 +131,7 @@ void CockpitNode::on_mode(int client, const void* jp, TimeUs now) {
   if (!known) {
     refuse(client, cmd, *bad_command_,
            "mode: expected one of MANUAL_OPEN_LOOP, MANUAL_CLOSED_LOOP, WAYPOINTING, STABILISE, "
-           "DEPTH_HOLD, HEADING_HOLD, RATE, SURFACE, POSITION_HOLD");
+           "DEPTH_HOLD, HEADING_HOLD, RATE, SURFACE, POSITION_HOLD, DEPTH_HEADING_HOLD");
     return;
   }
   const json* tr = member(j, "is_translation");

@@ -66,6 +66,7 @@ ArbiterDecision Arbiter::decide(const ArbiterInput& in) {
     case controller_mode_t::RATE:
     case controller_mode_t::SURFACE:
     case controller_mode_t::POSITION_HOLD:
+    case controller_mode_t::DEPTH_HEADING_HOLD:
       d.source = wrench_t::SOURCE_NONE;
       d.reason = "an ROV mode (tiller-rov-control), not for this vehicle: neutral";
       break;

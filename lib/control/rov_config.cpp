@@ -61,13 +61,17 @@ RovControlParams load_rov_control(const config::Value& root) {
   p.input_timeout_s = v.number_or("input_timeout_s", 0.5, {0.001, 60});
   p.allocation_timeout_s = v.number_or("allocation_timeout_s", 0.5, {0.001, 60});
   p.blend_s = v.number_or("blend_s", 1.0, {0, 60});
-  const std::string mode = v.choice_or(
-      "default_mode", "manual",
-      {"manual", "stabilise", "depth_hold", "heading_hold", "rate", "surface", "position_hold"});
+  const std::string mode = v.choice_or("default_mode", "manual",
+                                       {"manual", "stabilise", "depth_hold", "heading_hold", "rate",
+                                        "surface", "position_hold", "depth_heading_hold"});
   p.default_mode = static_cast<std::int8_t>(rov_mode_from_name(mode));
   if (auto pos = v.find("position")) {
     p.require_position_covariance = pos->boolean_or("require_covariance", true);
     p.max_position_std_m = pos->number_or("max_std_m", 0.5, Range::positive());
+    const std::string loss = pos->choice_or(
+        "on_loss", "depth_heading_hold",
+        {"depth_heading_hold", "depth_hold", "heading_hold", "stabilise", "surface", "manual"});
+    p.position_loss_mode = static_cast<std::int8_t>(rov_mode_from_name(loss));
   }
   if (auto s = v.find("surface")) {
     p.surface_speed_m_s = s->number_or("speed_m_s", 0.25, Range::positive());

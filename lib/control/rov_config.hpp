@@ -7,6 +7,8 @@
 #include <cstdint>
 #include <string>
 
+#include <tiller/controller_mode_t.hpp>
+
 #include "control/rov_axes.hpp"
 #include "core/config.hpp"
 
@@ -22,6 +24,10 @@ struct RovControlParams {
   std::int8_t default_mode = 0;       // controller_mode_t constant before any TILLER_MODE
   bool require_position_covariance = true;  // odometry without a covariance has no position
   double max_position_std_m = 0.5;  // position valid while its horizontal 1-sigma is below this
+  // Where position hold goes when its position is lost (position.on_loss; the DVL's bottom lock
+  // lost, its driver stopped): depth and heading held, translations from the stick, by default.
+  // It does not come back by itself: the pilot selects position hold again.
+  std::int8_t position_loss_mode = controller_mode_t::DEPTH_HEADING_HOLD;
   double surface_speed_m_s = 0.25;  // SURFACE rises at this
   double surface_depth_m = 0.15;    // and leaves heave alone above this depth
   std::array<RovGains, 6> axes{};   // [X Y Z K M N] = surge sway heave roll pitch yaw

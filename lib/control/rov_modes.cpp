@@ -26,6 +26,7 @@ constexpr Entry kModes[] = {
     {controller_mode_t::RATE, "rate", "rate (acro)"},
     {controller_mode_t::SURFACE, "surface", "surface"},
     {controller_mode_t::POSITION_HOLD, "position_hold", "position hold"},
+    {controller_mode_t::DEPTH_HEADING_HOLD, "depth_heading_hold", "depth and heading hold"},
 };
 }  // namespace
 
@@ -81,11 +82,14 @@ bool plan_rov_mode(std::int8_t mode, const std::array<bool, 6>& actuated, bool p
     case controller_mode_t::POSITION_HOLD:
       p = {{H, H, H, H, H, H}, true, false};
       break;
+    case controller_mode_t::DEPTH_HEADING_HOLD:
+      p = {{P, P, H, H, H, H}, true, false};
+      break;
     case controller_mode_t::MANUAL_CLOSED_LOOP:
     case controller_mode_t::WAYPOINTING:
       std::snprintf(buf, sizeof buf,
                     "%s refused: a surface-vehicle mode; an ROV flies manual, stabilise, depth "
-                    "hold, heading hold, rate, surface or position hold",
+                    "hold, heading hold, rate, surface, position hold or depth and heading hold",
                     words);
       return refuse(buf);
     default:
@@ -102,6 +106,8 @@ bool plan_rov_mode(std::int8_t mode, const std::array<bool, 6>& actuated, bool p
     missing = lacks({2});
   } else if (mode == controller_mode_t::HEADING_HOLD) {
     missing = lacks({5});
+  } else if (mode == controller_mode_t::DEPTH_HEADING_HOLD) {
+    missing = lacks({2, 5});
   } else if (mode == controller_mode_t::POSITION_HOLD) {
     missing = lacks({0, 1, 2, 5});
   }

@@ -16,14 +16,17 @@
 //                     heave
 //   POSITION_HOLD     north, east, depth and heading held (each overridden by its stick), level;
 //                     needs surge, sway, heave and yaw, and a valid position in the odometry
+//   DEPTH_HEADING_HOLD  depth and heading held (each overridden by its stick), level,
+//                     translations from the stick (centred: no translation thrust): where
+//                     position hold falls back when its position is lost; needs heave and yaw
 // Of the odometry every assisted mode needs the attitude and rates; only the modes that use the
-// depth (depth hold, surface, position hold: uses_depth) need a valid depth, so heading hold,
-// stabilise and rate fly on an estimate without one (a lost pressure sensor, or a layout
-// without heave, such as the 4-thruster ROV).
-// A held axis is overridden by its stick and holds the new value on release (control/
-// rov_axes.hpp). An axis the layout cannot actuate (Allocator::unactuated) is never
-// controlled: kOff. A mode whose needs the layout does not meet is refused with a reason that
-// names the axis. MANUAL_CLOSED_LOOP and WAYPOINTING are the USVs' modes: refused here.
+// depth (depth hold, surface, position hold, depth and heading hold: uses_depth) need a valid
+// depth, so heading hold, stabilise and rate fly on an estimate without one (a lost pressure
+// sensor, or a layout without heave, such as the 4-thruster ROV). A held axis is overridden by its
+// stick and holds the new value on release (control/ rov_axes.hpp). An axis the layout cannot
+// actuate (Allocator::unactuated) is never controlled: kOff. A mode whose needs the layout does not
+// meet is refused with a reason that names the axis. MANUAL_CLOSED_LOOP and WAYPOINTING are the
+// USVs' modes: refused here.
 #pragma once
 
 #include <array>
@@ -41,6 +44,7 @@ struct ModePlan {
 };
 
 // "manual", "stabilise", "depth_hold", "heading_hold", "rate", "surface", "position_hold",
+// "depth_heading_hold",
 // "closed_loop", "waypointing"; "?" for an unknown constant.
 const char* rov_mode_name(std::int8_t mode);
 // The inverse; -1 when the name is none of them.

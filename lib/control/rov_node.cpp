@@ -56,6 +56,9 @@ RovControlNode::RovControlNode(const RovControlParams& p, const Vehicle& vehicle
   subscribe(channels::kThrusterCommand, &RovControlNode::on_thruster_command);
   advertise<wrench_t>(channels::kWrenchRov);
   advertise<arbitration_t>(channels::kArbitration);
+  advertise<controller_mode_t>(channels::kMode);  // position hold's fallback (fall_back)
+  mode_msg_.source = "rov-control";
+  position_lost_ = &counter("position_hold.lost");
   nan_odometry_ = &counter("rejected.odometry.nan");
   range_odometry_ = &counter("rejected.odometry.range");
   invalid_odometry_ = &counter("odometry.invalid");
@@ -140,6 +143,36 @@ void RovControlNode::switch_to(std::int8_t mode, const ModePlan& plan, TimeUs no
   axes_.set_roles(plan.roles, plan.level);
   std::snprintf(buf, sizeof buf, "%s on %s", rov_mode_words(mode), vehicle_name_.c_str());
   set_reason(buf);
+}
+
+void RovControlNode::fall_back(TimeUs now) {
+  // The position is lost (odometry fresh, but without a valid position or velocity: the DVL's
+  // bottom lock lost, its driver stopped): the configured mode, else heading hold, else manual.
+  ++*position_lost_;
+  const bool depth = depth_fresh_.fresh(now);
+  ModePlan plan;
+  std::int8_t to = p_.position_loss_mode;
+  if (to != controller_mode_t::MANUAL_OPEN_LOOP &&
+      !plan_rov_mode(to, actuated_, false, depth, vehicle_name_, plan, refusal_)) {
+    to = controller_mode_t::HEADING_HOLD;
+    if (!plan_rov_mode(to, actuated_, false, depth, vehicle_name_, plan, refusal_))
+      to = controller_mode_t::MANUAL_OPEN_LOOP;
+  }
+  switch_to(to, plan, now);
+  // Not resumed silently: the pilot's station (the teleop, the cockpit) takes this as the mode
+  // in force, so its repeats carry it, and position hold comes back only when asked for again.
+  requested_ = to;
+  mode_msg_.utime = now;
+  mode_msg_.mode = to;
+  mode_msg_.is_translation = false;
+  Node::publish(channels::kMode, mode_msg_);
+  char buf[kReasonRoom];
+  std::snprintf(buf, sizeof buf,
+                "position lost (no valid position in the odometry: DVL bottom lock or driver): "
+                "position hold -> %s; select position hold again to resume",
+                rov_mode_words(to));
+  set_reason(buf);
+  set_health(heartbeat_t::STATE_DEGRADED, status_);
 }
 
 void RovControlNode::on_arm_state(const arm_state_t& m, TimeUs now) {
@@ -265,6 +298,8 @@ void RovControlNode::on_tick(TimeUs now) {
     publish(now, wrench_t::SOURCE_MANUAL_DEMAND, false);
     return;
   }
+  if (mode_ == controller_mode_t::POSITION_HOLD && !leaving_ && odom_ok && !position_valid(now))
+    fall_back(now);
   if (!odom_ok || !pilot_ok || (uses_depth(plan_) && !depth_fresh_.fresh(now))) {
     // No state (or no depth, in a mode that uses it) or no pilot: an invalid wrench, so neutral
     // through the mixer's gate (input lost, then its disarm).
@@ -283,10 +318,6 @@ void RovControlNode::on_tick(TimeUs now) {
     } else {
       stick[2] = std::clamp(-p_.surface_speed_m_s / p_.axes[2].max_rate, -1.0, 1.0);
     }
-  }
-  if (mode_ == controller_mode_t::POSITION_HOLD && !position_valid(now)) {
-    if (actuated_[0]) roles[0] = AxisRole::kPilot;
-    if (actuated_[1]) roles[1] = AxisRole::kPilot;
   }
   if (!leaving_) axes_.set_roles(roles, plan_.level);
 

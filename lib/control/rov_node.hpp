@@ -27,9 +27,14 @@
 // with the stick, coming from manual; the last published wrench otherwise) into the new mode's
 // over blend_s. Going back to manual the output blends into what the mixer's open-loop
 // allocation of the present stick achieves, then hands over to SOURCE_MANUAL_DEMAND.
-// Position hold whose position goes invalid gives the horizontal axes to the pilot until it is
-// valid again (then it holds where the vehicle is). Bad input is dropped and counted
-// (rejected.<input>.<reason>). Pure: messages and time in; no clock; nothing allocates per tick.
+// Position hold whose position goes invalid (fresh odometry without VALID_POSITION or
+// VALID_VELOCITY, or a 1-sigma past position.max_std_m: the DVL's bottom lock lost, its driver
+// stopped) falls back to position.on_loss (depth and heading hold by default: translations from
+// the stick), blended like any switch, counted (position_hold.lost), said in the arbitration's
+// reason and a DEGRADED heartbeat, and published on TILLER_MODE (source "rov-control") so the
+// pilot's station shows it and repeats it: position hold resumes only when selected again. Bad
+// input is dropped and counted (rejected.<input>.<reason>). Pure: messages and time in; no clock;
+// nothing allocates per tick.
 #pragma once
 
 #include <array>
@@ -80,6 +85,7 @@ class RovControlNode : public Node {
  private:
   bool position_valid(TimeUs now);
   void switch_to(std::int8_t mode, const ModePlan& plan, TimeUs now);
+  void fall_back(TimeUs now);
   void set_reason(const char* text);
   void publish(TimeUs now, std::int8_t source, bool valid);
 
@@ -108,6 +114,8 @@ class RovControlNode : public Node {
   AllocationResult manual_result_;
   // Outputs.
   wrench_t wrench_{};
+  controller_mode_t mode_msg_{};
+  std::int64_t* position_lost_ = nullptr;
   arbitration_t arb_{};
   std::string reason_, refusal_, status_;
   std::int64_t stale_seen_ = 0;

@@ -26,6 +26,7 @@
 #include <tiller/arm_state_t.hpp>
 #include <tiller/controller_mode_t.hpp>
 #include <tiller/datum_t.hpp>
+#include <tiller/dvl_t.hpp>
 #include <tiller/esc_output_t.hpp>
 #include <tiller/gnss_fix_t.hpp>
 #include <tiller/heading_t.hpp>
@@ -80,7 +81,7 @@ inline bool source(std::int8_t s) {
   return s >= wrench_t::SOURCE_NONE && s <= wrench_t::SOURCE_FAILSAFE;
 }
 inline bool mode(std::int8_t m) {
-  return m >= controller_mode_t::MANUAL_OPEN_LOOP && m <= controller_mode_t::POSITION_HOLD;
+  return m >= controller_mode_t::MANUAL_OPEN_LOOP && m <= controller_mode_t::DEPTH_HEADING_HOLD;
 }
 // A 3x3 row-major covariance: finite, diagonal >= 0 (all zero: unknown).
 inline bool covariance3(const double (&c)[9]) {
@@ -390,6 +391,29 @@ inline Reason check(const pressure_t& m) {
   if (!within(&m.depth, 1, -1e3, 2e3)) return "depth.range";
   const double d = (m.pressure - m.surface_pressure) / (m.water_density * 9.80665);
   if (std::fabs(d - m.depth) > 1e-3) return "depth.inconsistent";
+  return nullptr;
+}
+
+// dvl_t: utime >= 0; velocity [-20, 20] m/s each; covariance finite, its diagonal [0, 100]
+// (m/s)^2 and symmetric; fom [0, 100] m/s; altitude [0, 1e3] m or -1 (none); without bottom lock
+// the velocity is 0 and the altitude -1; beams_valid -1..4.
+inline Reason check(const dvl_t& m) {
+  using namespace detail;
+  if (m.utime < 0) return "utime.range";
+  if (!within(m.velocity, 3, -20, 20)) return "velocity.range";
+  if (!finite(m.velocity_covariance, 9)) return "velocity_covariance.range";
+  for (int i = 0; i < 3; ++i) {
+    const double d = m.velocity_covariance[4 * i];
+    if (!(d >= 0 && d <= 100)) return "velocity_covariance.range";
+    for (int j = 0; j < i; ++j)
+      if (std::fabs(m.velocity_covariance[3 * i + j] - m.velocity_covariance[3 * j + i]) > 1e-9)
+        return "velocity_covariance.asymmetric";
+  }
+  if (!within(&m.fom, 1, 0, 100)) return "fom.range";
+  if (!(m.altitude == -1 || within(&m.altitude, 1, 0, 1e3))) return "altitude.range";
+  if (m.beams_valid < -1 || m.beams_valid > 4) return "beams_valid.range";
+  if (!m.bottom_lock && (m.velocity[0] != 0 || m.velocity[1] != 0 || m.velocity[2] != 0))
+    return "velocity.unlocked";
   return nullptr;
 }
 

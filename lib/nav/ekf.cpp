@@ -172,6 +172,14 @@ UpdateResult Ekf::update_vertical_velocity(double z, double variance, double gat
   return update<1>(y, h, Eigen::Matrix<double, 1, 1>(variance), gate);
 }
 
+UpdateResult Ekf::update_velocity_body(const Eigen::Vector3d& z, const Eigen::Matrix3d& r,
+                                       double gate) {
+  Eigen::Matrix<double, 3, kStates> h = Eigen::Matrix<double, 3, kStates>::Zero();
+  h(0, kU) = h(1, kV) = h(2, kW) = 1;
+  const Eigen::Vector3d y = z - x_.segment<3>(kU);
+  return update<3>(y, h, r, gate);
+}
+
 double Ekf::sway_std(double std_mps, double rate_gain_s, double r, double u) {
   return std_mps + rate_gain_s * std::abs(r) * std::abs(u);
 }

@@ -15,16 +15,16 @@
 // w, b_r, b_ax, b_ay, c_n and c_e random walks; integrated with Euler steps, covariance
 // P <- F P F^T + Q dt. The current enters no other state's model (the velocity is over ground):
 // F is block diagonal, the first kCoreStates and the current, and predict keeps that structure.
-// Measurements: north-east position (GNSS), north-east velocity (GNSS), heading, depth, and the
-// vertical velocity (a surface vehicle's w = 0), and the sway constraint (update_sway: a surface
-// vessel's sway through the water is near 0 on straights). Each update gates on the normalised
-// innovation squared NIS = y^T S^-1 y (chi-square with as many degrees of freedom as the
-// measurement has): above the gate the measurement is refused and the state is left as it was.
-// Joseph-form covariance update. Fixed-size Eigen matrices only: predict and update never allocate.
-// While the current is uncorrelated with the rest (no sway update yet) and a measurement does not
-// involve it, predict and update work on the first kCoreStates alone: the same arithmetic, bit for
-// bit, as the filter without the current states.
-// Time is a dt argument; nothing here reads a clock.
+// Measurements: north-east position (GNSS), north-east velocity (GNSS), body velocity (DVL),
+// heading, depth, and the vertical velocity (a surface vehicle's w = 0), and the sway constraint
+// (update_sway: a surface vessel's sway through the water is near 0 on straights). Each update
+// gates on the normalised innovation squared NIS = y^T S^-1 y (chi-square with as many degrees of
+// freedom as the measurement has): above the gate the measurement is refused and the state is left
+// as it was. Joseph-form covariance update. Fixed-size Eigen matrices only: predict and update
+// never allocate. While the current is uncorrelated with the rest (no sway update yet) and a
+// measurement does not involve it, predict and update work on the first kCoreStates alone: the same
+// arithmetic, bit for bit, as the filter without the current states. Time is a dt argument; nothing
+// here reads a clock.
 #pragma once
 
 #include <Eigen/Core>
@@ -95,6 +95,10 @@ class Ekf {
   UpdateResult update_heading(double z, double variance, double gate);
   UpdateResult update_depth(double z, double variance, double gate);
   UpdateResult update_vertical_velocity(double z, double variance, double gate);
+  // A DVL's bottom-track velocity: [u v w] over ground in body FRD (m/s), measured directly
+  // (h selects the velocity states), with its 3x3 covariance; 3 degrees of freedom.
+  UpdateResult update_velocity_body(const Eigen::Vector3d& z, const Eigen::Matrix3d& r,
+                                    double gate);
   // The sway constraint, a pseudo-measurement 0 = v - v_c, v_c = -sin(psi) c_n + cos(psi) c_e
   // (the current's starboard component: the body's sway through the water is 0), with the
   // 1-sigma sway_std(std_mps, rate_gain_s, r - b_r, u) (m/s) for the motion's yaw rate r.

@@ -38,11 +38,14 @@ NavNode::NavNode(const NavParams& p)
       gnss_fresh_(from_seconds(std::max(p.gnss.timeout_s, p.gnss.max_latency_s))),
       imu_fresh_(from_seconds(p.imu.timeout_s)),
       heading_fresh_(from_seconds(std::max(p.imu.timeout_s, 1.0))),
-      pressure_fresh_(from_seconds(p.depth.timeout_s)) {
+      pressure_fresh_(from_seconds(p.depth.timeout_s)),
+      dvl_fresh_(from_seconds(std::max(p.dvl.timeout_s, 1.0))),
+      dvl_only_(p.dvl.enabled && !p.gnss.enabled) {
   subscribe(channels::kGnss, &NavNode::on_gnss);
   subscribe(channels::kImu, &NavNode::on_imu);
   subscribe(channels::kHeading, &NavNode::on_heading);
   subscribe(channels::kPressure, &NavNode::on_pressure);
+  subscribe(channels::kDvl, &NavNode::on_dvl);
   advertise<odometry_t>(channels::kOdometry);
   advertise<datum_t>(channels::kDatum);
   bad_gnss_ = &counter("rejected.gnss.invalid");
@@ -64,6 +67,13 @@ NavNode::NavNode(const NavParams& p)
   datum_restarts_ = &counter("gnss.datum_restarts");
   blended_ = &counter("gnss.blended_corrections");
   heading_other_ignored_ = &counter("heading.other_ignored");
+  bad_dvl_ = &counter("rejected.dvl.invalid");
+  dvl_no_lock_ = &counter("dvl.no_lock");
+  dvl_fom_ = &counter("rejected.dvl.fom");
+  gate_dvl_ = &counter("rejected.dvl.gate");
+  dvl_used_ = &counter("dvl.used");
+  dvl_lost_ = &counter("dvl.lost");
+  dvl_status_.reserve(160);
 
   State x = State::Zero();
   Covariance c = Covariance::Zero();
@@ -348,16 +358,79 @@ void NavNode::on_pressure(const pressure_t& m, TimeUs now) {
   if (!ekf_.update_depth(m.depth, var, p_.depth.gate_chi2).accepted) reject(*gate_depth_);
 }
 
+void NavNode::on_dvl(const dvl_t& m, TimeUs now) {
+  if (!on_time(dvl_fresh_, m.utime, now, "dvl")) return;
+  if (checks::check(m) != nullptr) {
+    reject(*bad_dvl_);
+    return;
+  }
+  dvl_fresh_.mark(now, m.utime, clock_offset());
+  if (!p_.dvl.enabled) return;
+  if (!m.bottom_lock) {
+    ++*dvl_no_lock_;
+    return;
+  }
+  if (m.fom > p_.dvl.max_fom_mps) {
+    reject(*dvl_fom_);
+    return;
+  }
+  align(m.utime, now);
+  // The DVL at lever arm r sees v + omega x r (body FRD): take omega x r off.
+  const double wx = motion_.p, wy = motion_.q, wz = motion_.r - ekf_.x()(kBiasR);
+  const double* a = p_.dvl.lever_arm_m;
+  const Eigen::Vector3d z(m.velocity[0] - (wy * a[2] - wz * a[1]),
+                          m.velocity[1] - (wz * a[0] - wx * a[2]),
+                          m.velocity[2] - (wx * a[1] - wy * a[0]));
+  Eigen::Matrix3d r =
+      Eigen::Map<const Eigen::Matrix<double, 3, 3, Eigen::RowMajor>>(m.velocity_covariance);
+  const double floor = sq(p_.dvl.min_std_mps);
+  if (r.diagonal().isZero(0.0)) r = Eigen::Matrix3d::Identity() * sq(m.fom);
+  for (int i = 0; i < 3; ++i) r(i, i) = std::max(r(i, i), floor);
+  if (dvl_only_ && !position_init_) {
+    // Dead reckoning starts here: the local frame's origin is where the first velocity was used.
+    ekf_.set_position_ne(0.0, 0.0, sq(p_.dvl.initial_position_std_m));
+    position_init_ = true;
+    last_fix_ = now;
+  }
+  if (dvl_only_ && have_dvl_ && !dvl_fresh(now)) {
+    // Back after a loss: the velocity restarts from this report, decorrelated from the position
+    // (an update would move the dead-reckoned position by the report's noise times the long
+    // correlation the outage built up: a jump of centimetres for nothing).
+    ekf_.set_velocity_body(z(0), z(1), std::max(r(0, 0), r(1, 1)));
+    ekf_.set_state(kW, z(2), r(2, 2));
+    dvl_gated_in_a_row_ = 0;
+  } else if (ekf_.update_velocity_body(z, r, p_.dvl.gate_chi2).accepted) {
+    dvl_gated_in_a_row_ = 0;
+  } else {
+    reject(*gate_dvl_);
+    if (++dvl_gated_in_a_row_ < p_.dvl.reset_after) return;
+    ekf_.set_velocity_body(z(0), z(1), std::max(r(0, 0), r(1, 1)));
+    ekf_.set_state(kW, z(2), r(2, 2));
+    dvl_gated_in_a_row_ = 0;
+    ++*resets_;
+  }
+  ++*dvl_used_;
+  last_dvl_ = now;
+  have_dvl_ = true;
+}
+
+bool NavNode::dvl_fresh(TimeUs now) const {
+  return have_dvl_ && now - last_dvl_ <= from_seconds(p_.dvl.timeout_s);
+}
+
 std::int32_t NavNode::validity(TimeUs now) const {
   const Covariance& c = ekf_.P();
   const auto& l = p_.limits;
   std::int32_t v = 0;
   if (position_init_) {
-    if (largest_eigen(c(kN, kN), c(kN, kE), c(kE, kE)) <= sq(l.position_std_m))
+    // On the DVL alone the position and velocity are only as good as its last report.
+    const bool source = !dvl_only_ || dvl_fresh(now);
+    if (source && largest_eigen(c(kN, kN), c(kN, kE), c(kE, kE)) <= sq(l.position_std_m))
       v |= odometry_t::VALID_POSITION;
-    if (now - last_fix_ > from_seconds(p_.gnss.timeout_s)) v |= odometry_t::DEAD_RECKONING;
+    if (dvl_only_ || now - last_fix_ > from_seconds(p_.gnss.timeout_s))
+      v |= odometry_t::DEAD_RECKONING;
     const double vmax = std::max({c(kU, kU), c(kV, kV), c(kW, kW)});
-    if (vmax <= sq(l.velocity_std_mps)) v |= odometry_t::VALID_VELOCITY;
+    if (source && vmax <= sq(l.velocity_std_mps)) v |= odometry_t::VALID_VELOCITY;
   }
   if (have_imu_ && now - last_imu_ <= from_seconds(p_.imu.timeout_s) && heading_init_ &&
       c(kPsi, kPsi) <= sq(l.heading_std))
@@ -409,7 +482,49 @@ void NavNode::fill(TimeUs now) {
   vc[6 * 5 + 5] = rate_var_[2] + c(kBiasR, kBiasR);
 }
 
-void NavNode::report(TimeUs, std::int32_t valid) {
+void NavNode::report_dead_reckoning(TimeUs now, std::int32_t valid) {
+  const bool changed = valid != reported_valid_;
+  if (!changed && dvl_status_at_ >= 0 && now - dvl_status_at_ < kUsPerSecond) return;
+  if ((valid & odometry_t::DEAD_RECKONING) &&
+      !(reported_valid_ >= 0 && (reported_valid_ & odometry_t::DEAD_RECKONING)))
+    ++*dr_entered_;
+  reported_valid_ = valid;
+  const Covariance& c = ekf_.P();
+  const double std_m = std::sqrt(largest_eigen(c(kN, kN), c(kN, kE), c(kE, kE)));
+  const double dt = dvl_status_at_ >= 0 ? to_seconds(now - dvl_status_at_) : 0.0;
+  const double growth_mm_s = dt > 0 ? 1e3 * (std_m - dvl_std_then_) / dt : 0.0;
+  dvl_status_at_ = now;
+  dvl_std_then_ = std_m;
+  char b[200];
+  int n = 0;
+  if (!position_init_) {
+    n = std::snprintf(b, sizeof b,
+                      "waiting for the DVL's first bottom-lock velocity (dead reckoning starts "
+                      "there)");
+  } else if (!dvl_fresh(now)) {
+    n = std::snprintf(b, sizeof b,
+                      "DVL lost: no velocity used for %.1f s; position and velocity invalid, "
+                      "1-sigma %.2f m growing %.1f mm/s",
+                      to_seconds(now - last_dvl_), std_m, growth_mm_s);
+  } else {
+    n = std::snprintf(b, sizeof b,
+                      "dead reckoning on the DVL: position 1-sigma %.3f m, growing %.2f mm/s",
+                      std_m, growth_mm_s);
+  }
+  if (!(valid & odometry_t::VALID_ATTITUDE) && n > 0 && n < static_cast<int>(sizeof b))
+    n += std::snprintf(b + n, sizeof b - static_cast<std::size_t>(n), "; invalid: attitude");
+  if (!(valid & odometry_t::VALID_DEPTH) && n > 0 && n < static_cast<int>(sizeof b))
+    std::snprintf(b + n, sizeof b - static_cast<std::size_t>(n), "; invalid: depth");
+  dvl_status_.assign(b);
+  const bool all = (valid & odometry_t::VALID_ALL) == odometry_t::VALID_ALL;
+  set_health(all ? heartbeat_t::STATE_OK : heartbeat_t::STATE_DEGRADED, dvl_status_);
+}
+
+void NavNode::report(TimeUs now, std::int32_t valid) {
+  if (dvl_only_) {
+    report_dead_reckoning(now, valid);
+    return;
+  }
   if (valid == reported_valid_) return;
   const bool dr = valid & odometry_t::DEAD_RECKONING;
   if (dr && !(reported_valid_ >= 0 && (reported_valid_ & odometry_t::DEAD_RECKONING)))
@@ -421,12 +536,13 @@ void NavNode::report(TimeUs, std::int32_t valid) {
     missing += missing.empty() ? "" : ", ";
     missing += what;
   };
-  if (p_.gnss.enabled) need(odometry_t::VALID_POSITION, "position");
-  if (p_.gnss.enabled) need(odometry_t::VALID_VELOCITY, "velocity");
+  if (p_.gnss.enabled || p_.dvl.enabled) need(odometry_t::VALID_POSITION, "position");
+  if (p_.gnss.enabled || p_.dvl.enabled) need(odometry_t::VALID_VELOCITY, "velocity");
   need(odometry_t::VALID_ATTITUDE, "attitude");
   need(odometry_t::VALID_DEPTH, "depth");
   std::string status;
-  if (!p_.gnss.enabled) status = "no position source (gnss.enabled false): position unavailable; ";
+  if (!p_.gnss.enabled && !p_.dvl.enabled)
+    status = "no position source (gnss.enabled false): position unavailable; ";
   if (dr) {
     char b[96];
     std::snprintf(b, sizeof b, "dead reckoning: no GNSS fix used for over %.1f s; ",
@@ -462,6 +578,11 @@ void NavNode::on_tick(TimeUs now) {
   }
   const std::int32_t valid = validity(now);
   if (!(valid & odometry_t::VALID_POSITION)) ++*invalid_out_;
+  if (p_.dvl.enabled) {
+    const bool fresh = dvl_fresh(now);
+    if (dvl_was_fresh_ && !fresh) ++*dvl_lost_;
+    dvl_was_fresh_ = fresh;
+  }
   odom_.valid = valid;
   fill(now);
   publish(channels::kOdometry, odom_);

@@ -1,7 +1,8 @@
 // tiller-nav's logic, the estimator: TILLER_GNSS, TILLER_IMU, TILLER_HEADING and TILLER_PRESSURE
-// in, TILLER_ODOMETRY (odometry_t, local NED about the datum, body FRD velocity, covariances,
-// validity bits) out at rate_hz, and TILLER_DATUM (datum_t: the frame's WGS84 origin) at the first
-// tick with a datum and then every second. docs/navigation.md explains the filter (nav/ekf.hpp).
+// in (and TILLER_DVL, an ROV's Doppler velocity log, with dvl.enabled), TILLER_ODOMETRY
+// (odometry_t, local NED about the datum, body FRD velocity, covariances, validity bits) out at
+// rate_hz, and TILLER_DATUM (datum_t: the frame's WGS84 origin) at the first tick with a datum and
+// then every second. docs/navigation.md explains the filter (nav/ekf.hpp).
 //
 // GNSS fixes are converted to local NED about the datum (datum: first_fix: the mean of fixes that
 // stayed consistent for datum_hold.hold_s, so a spurious first fix cannot set it, restarts
@@ -12,7 +13,13 @@
 // heading from TILLER_HEADING (a magnetic one plus heading.declination_deg; a dual-antenna GNSS
 // heading, source GNSS, is preferred while fresh: the others are then left out, counted in
 // heading.other_ignored); depth from TILLER_PRESSURE, or 0 for a surface vehicle; with sway.enabled
-// the sway constraint at each tick while the IMU is fresh and the forward speed |u| >=
+// the DVL's bottom-track velocity (body FRD over ground, its lever arm taken off) when it has
+// bottom lock and a fom within dvl.max_fom_mps (else counted: dvl.no_lock, rejected.dvl.fom);
+// without GNSS (gnss.enabled false) the first DVL velocity used starts dead reckoning at north =
+// east = 0, DEAD_RECKONING is set, the position's covariance grows and the heartbeat says by how
+// much (position 1-sigma and its growth, once a second); position and velocity are valid only while
+// a DVL report was used within dvl.timeout_s (dvl.lost counts the losses). With sway.enabled the
+// sway constraint at each tick while the IMU is fresh and the forward speed |u| >=
 // sway.min_speed_mps (rejected.sway.gate counts the ones refused). The first measurement of each
 // part sets it; later ones pass the innovation gate or are refused and counted
 // (rejected.<input>.gate); a fix of an epoch already taken (the same gnss_utime) is refused and
@@ -33,6 +40,7 @@
 
 #include <GeographicLib/LocalCartesian.hpp>
 #include <tiller/datum_t.hpp>
+#include <tiller/dvl_t.hpp>
 #include <tiller/gnss_fix_t.hpp>
 #include <tiller/heading_t.hpp>
 #include <tiller/imu_t.hpp>
@@ -54,10 +62,14 @@ class NavNode : public Node {
   void on_imu(const imu_t& m, TimeUs now);
   void on_heading(const heading_t& m, TimeUs now);
   void on_pressure(const pressure_t& m, TimeUs now);
+  void on_dvl(const dvl_t& m, TimeUs now);
 
   const Ekf& filter() const { return ekf_; }
   const odometry_t& last_odometry() const { return odom_; }
   bool has_datum() const { return have_datum_; }
+  // With the DVL as the position source: the heartbeat's status line (dead reckoning, its
+  // 1-sigma and growth, or the loss), refreshed once a second.
+  const std::string& dvl_status() const { return dvl_status_; }
   // The datum (WGS84 deg, m above the ellipsoid), once set.
   double datum_latitude() const { return datum_.LatitudeOrigin(); }
   double datum_longitude() const { return datum_.LongitudeOrigin(); }
@@ -118,6 +130,19 @@ class NavNode : public Node {
   std::int64_t *bad_gnss_, *bad_imu_, *bad_heading_, *bad_pressure_;
   std::int64_t *gate_gnss_, *gate_gnss_velocity_, *gate_heading_, *gate_depth_, *gate_sway_;
   std::int64_t *fixes_used_, *no_fix_, *resets_, *too_late_, *dr_entered_, *invalid_out_;
+  // The DVL (dvl.enabled): receive time of the last report used; dead reckoning on it alone
+  // (no GNSS) started at the first one.
+  Freshness dvl_fresh_;
+  TimeUs last_dvl_ = 0;
+  bool have_dvl_ = false, dvl_was_fresh_ = false;
+  bool dvl_only_ = false;  // dvl.enabled and gnss.enabled false: the DVL is the position source
+  int dvl_gated_in_a_row_ = 0;
+  TimeUs dvl_status_at_ = -1;  // the dead-reckoning status line, refreshed once a second
+  double dvl_std_then_ = 0;    // the position's 1-sigma at that time (m), for its growth rate
+  std::string dvl_status_;
+  bool dvl_fresh(TimeUs now) const;
+  void report_dead_reckoning(TimeUs now, std::int32_t valid);
+  std::int64_t *bad_dvl_, *dvl_no_lock_, *dvl_fom_, *gate_dvl_, *dvl_used_, *dvl_lost_;
   std::int64_t* repeated_;       // rejected.gnss.repeated: an epoch already fused
   std::int64_t last_epoch_ = 0;  // gnss_utime of the last fix taken
 };

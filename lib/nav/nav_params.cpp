@@ -1,6 +1,7 @@
 #include "nav/nav_params.hpp"
 
 #include <optional>
+#include <vector>
 
 #include <tiller/gnss_fix_t.hpp>
 
@@ -87,6 +88,21 @@ NavParams load_nav_params(const Value& root) {
     q.default_std_m = d.number_or("default_std_m", q.default_std_m, {1e-4, 100});
     q.gate_chi2 = d.number_or("gate_chi2", q.gate_chi2, {0, 1e6});
     q.timeout_s = d.number_or("timeout_s", q.timeout_s, {0.01, 60});
+  });
+  section(root, "dvl", [&](const Value& d) {
+    auto& q = p.dvl;
+    q.enabled = d.boolean_or("enabled", q.enabled);
+    q.max_fom_mps = d.number_or("max_fom_mps", q.max_fom_mps, {1e-4, 100});
+    q.min_std_mps = d.number_or("min_std_mps", q.min_std_mps, {1e-5, 10});
+    if (d.has("lever_arm_m")) {
+      const std::vector<double> a = d.numbers("lever_arm_m", 3, {-10, 10});
+      for (int i = 0; i < 3; ++i) q.lever_arm_m[i] = a[static_cast<std::size_t>(i)];
+    }
+    q.timeout_s = d.number_or("timeout_s", q.timeout_s, {0.01, 60});
+    q.gate_chi2 = d.number_or("gate_chi2", q.gate_chi2, {0, 1e6});
+    q.reset_after = static_cast<int>(d.integer_or("reset_after", q.reset_after, 1, 100000));
+    q.initial_position_std_m =
+        d.number_or("initial_position_std_m", q.initial_position_std_m, {0, 1e3});
   });
   section(root, "sway", [&](const Value& w) {
     auto& q = p.sway;

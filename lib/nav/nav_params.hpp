@@ -71,6 +71,25 @@ struct NavParams {
     double gate_chi2 = 10.8;
     double timeout_s = 1.0;  // depth invalid past this without a pressure sample
   } depth;
+  // A Doppler velocity log (TILLER_DVL, dvl_t): an ROV's velocity over ground in body FRD.
+  // A report is used with bottom lock and its fom at most max_fom_mps; its covariance (or fom^2
+  // on the diagonal when it has none), each variance floored at min_std_mps^2. The DVL sits at
+  // lever_arm_m from the body origin (FRD, m): it sees v + omega x r, so omega x r is taken off.
+  // Without a position source (gnss.enabled false) the first report used starts dead reckoning
+  // at north = east = 0 with initial_position_std_m (the local frame: where the dive began);
+  // the position's covariance then grows with the velocity's. Position and velocity are valid
+  // only while a report was used within timeout_s (a lost bottom lock or a stopped driver makes
+  // them invalid at once: position hold falls back, control/rov_node.hpp).
+  struct Dvl {
+    bool enabled = false;
+    double max_fom_mps = 0.05;
+    double min_std_mps = 0.002;
+    double lever_arm_m[3] = {0, 0, 0};
+    double timeout_s = 1.0;
+    double gate_chi2 = 16.3;  // 3 degrees of freedom, 1 in 1000
+    int reset_after = 10;     // consecutive gated reports, then the velocity is reset to one
+    double initial_position_std_m = 0.01;
+  } dvl;
   // The sway constraint (Ekf::update_sway): a surface vessel's sway through the water is near 0,
   // applied at each tick while the IMU is fresh and |u| >= min_speed_mps. Off by default: an ROV
   // translates sideways on purpose; and at rest or holding station the current may push a hull

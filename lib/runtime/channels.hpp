@@ -40,6 +40,7 @@ inline constexpr const char* kHeading = "TILLER_HEADING";               // headi
 inline constexpr const char* kPressure = "TILLER_PRESSURE";             // pressure_t
 inline constexpr const char* kPower = "TILLER_POWER";                   // power_t
 inline constexpr const char* kLeak = "TILLER_LEAK";                     // leak_t
+inline constexpr const char* kDvl = "TILLER_DVL";                       // dvl_t
 inline constexpr const char* kVehicleStatus = "TILLER_VEHICLE_STATUS";  // vehicle_status_t
 inline constexpr const char* kHeartbeatPrefix = "TILLER_HEARTBEAT_";    // heartbeat_t, + PROCESS
 

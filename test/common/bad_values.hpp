@@ -22,6 +22,7 @@
 #include <tiller/arm_state_t.hpp>
 #include <tiller/controller_mode_t.hpp>
 #include <tiller/datum_t.hpp>
+#include <tiller/dvl_t.hpp>
 #include <tiller/esc_output_t.hpp>
 #include <tiller/gnss_fix_t.hpp>
 #include <tiller/heading_t.hpp>
@@ -442,6 +443,22 @@ inline heading_t good(const std::string&, TimeUs t, const InputContext&) {
 }
 
 template <>
+inline dvl_t good(const std::string&, TimeUs t, const InputContext&) {
+  dvl_t m{};
+  m.utime = t;
+  m.bottom_lock = true;
+  m.velocity[0] = 0.2;
+  m.velocity[1] = -0.05;
+  m.velocity[2] = 0.01;
+  for (int i = 0; i < 3; ++i) m.velocity_covariance[4 * i] = 1e-4;
+  m.fom = 0.01;
+  m.altitude = 3.0;
+  m.beams_valid = 4;
+  m.sensor = "test";
+  return m;
+}
+
+template <>
 inline pressure_t good(const std::string&, TimeUs t, const InputContext&) {
   pressure_t m{};
   m.utime = t;
@@ -530,6 +547,18 @@ inline std::vector<BadValue<heading_t>> bad_values() {
       {"heading -pi", kOR, [](heading_t& m) { m.heading = -kTestPi; }},
       {"variance 11", kOR, [](heading_t& m) { m.variance = 11.0; }},
       {"unknown reference", kOR, [](heading_t& m) { m.reference = 5; }},
+  };
+}
+
+template <>
+inline std::vector<BadValue<dvl_t>> bad_values() {
+  return {
+      {"velocity NaN", kNF, [](dvl_t& m) { m.velocity[0] = NAN; }},
+      {"velocity 25 m/s", kOR, [](dvl_t& m) { m.velocity[1] = 25.0; }},
+      {"fom -1", kOR, [](dvl_t& m) { m.fom = -1.0; }},
+      {"altitude -3", kOR, [](dvl_t& m) { m.altitude = -3.0; }},
+      {"covariance negative", kOR, [](dvl_t& m) { m.velocity_covariance[4] = -1.0; }},
+      {"velocity without lock", kOR, [](dvl_t& m) { m.bottom_lock = false; }},
   };
 }
 
@@ -958,7 +987,8 @@ inline std::vector<TypeInputs> all_type_inputs() {
           type_inputs<heading_t>(),
           type_inputs<pressure_t>(),
           type_inputs<power_t>(),
-          type_inputs<leak_t>()};
+          type_inputs<leak_t>(),
+          type_inputs<dvl_t>()};
 }
 
 }  // namespace tiller::test

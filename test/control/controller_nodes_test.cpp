@@ -515,7 +515,7 @@ TEST(VelocityPidNode, MalformedInputOfEachTypeIsDroppedCountedAndChangesNothing)
   cases.push_back({"manual velocity NaN",
                    man([](manual_velocity_cmd_t& m) { m.velocity[0] = NAN; }),
                    "rejected.manual.invalid"});
-  controller_mode_t bad_mode = mode(42);  // past POSITION_HOLD (8)
+  controller_mode_t bad_mode = mode(42);  // past DEPTH_HEADING_HOLD (9)
   bad_mode.is_translation = true;
   cases.push_back({"mode unknown", bad(channels::kMode, bad_mode), "rejected.mode.invalid"});
   path_progress_t pr{};
@@ -635,7 +635,7 @@ TEST(StationKeepNode, MalformedInputOfEachTypeIsDroppedCountedAndChangesNothing)
     f(m);
     return bad(channels::kArbitration, m);
   };
-  cases.push_back({"arbitration unknown mode", arb([](arbitration_t& m) { m.mode = 9; }),
+  cases.push_back({"arbitration unknown mode", arb([](arbitration_t& m) { m.mode = 42; }),
                    "rejected.arbitration.invalid"});
   cases.push_back({"arbitration unknown source",
                    arb([](arbitration_t& m) { m.active_source = 42; }),

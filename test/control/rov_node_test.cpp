@@ -33,6 +33,11 @@ struct Rig {
     ex.observe([this](const std::string& ch, const std::uint8_t* d, int n, TimeUs) {
       if (ch == channels::kWrenchRov) wrench.decode(d, 0, n);
       if (ch == channels::kArbitration) arb.decode(d, 0, n);
+      if (ch == channels::kMode) {
+        controller_mode_t m;
+        m.decode(d, 0, n);
+        if (m.source == "rov-control") mode_out = m, ++modes_out;  // not the test's requests
+      }
     });
   }
   // Pilot, gate and odometry at 20 Hz from t0 to t1; the vehicle at 2 m depth, 0.5 m above
@@ -70,6 +75,8 @@ struct Rig {
   LockstepExecutor ex;
   wrench_t wrench{};
   arbitration_t arb{};
+  controller_mode_t mode_out{};  // what the node itself published on TILLER_MODE
+  int modes_out = 0;
 };
 
 constexpr std::int32_t kAll = odometry_t::VALID_ALL;
@@ -102,6 +109,50 @@ TEST(RovControlNode, PositionHoldRefusedWithoutAValidPosition) {
   EXPECT_EQ(r.node.counter_value("mode.refused"), 1);
   EXPECT_NE(r.arb.mode, controller_mode_t::POSITION_HOLD);
   EXPECT_NE(std::string(r.arb.reason).find("still in"), std::string::npos) << r.arb.reason;
+}
+
+// Position hold whose position is lost (the DVL's bottom lock) falls back to depth and heading
+// hold, says so, tells the pilot's station (TILLER_MODE), and does not come back with the
+// position: only a new request brings it back.
+TEST(RovControlNode, PositionHoldFallsBackOnLossAndDoesNotResumeSilently) {
+  RovControlParams p = load_rov_control_file(kRov6);
+  p.require_position_covariance = false;
+  Rig r(p);
+  r.feed(0, 2'000'000, kAll, kNoPosition, 1'000'000);
+  r.feed(2'000'000, 4'000'000, kAll, kAll, 0);  // the position is back from 2 s
+  r.request(controller_mode_t::POSITION_HOLD, 100'000);
+  r.ex.run_until(950'000);
+  ASSERT_EQ(r.arb.mode, controller_mode_t::POSITION_HOLD) << r.arb.reason;
+  EXPECT_EQ(r.modes_out, 0);
+  r.ex.run_until(1'100'000);
+  EXPECT_EQ(r.arb.mode, controller_mode_t::DEPTH_HEADING_HOLD);
+  EXPECT_NE(std::string(r.arb.reason).find("position lost"), std::string::npos) << r.arb.reason;
+  EXPECT_NE(std::string(r.arb.reason).find("select position hold again"), std::string::npos);
+  EXPECT_EQ(r.modes_out, 1);
+  EXPECT_EQ(r.mode_out.mode, controller_mode_t::DEPTH_HEADING_HOLD);
+  EXPECT_EQ(r.mode_out.source, "rov-control");
+  EXPECT_EQ(r.node.counter_value("position_hold.lost"), 1);
+  EXPECT_TRUE(r.wrench.valid);  // depth and heading still held
+  EXPECT_TRUE(r.node.axes().holding(2));
+  EXPECT_TRUE(r.node.axes().holding(5));
+  EXPECT_FALSE(r.node.axes().holding(0));
+  // The position is valid again from 2 s: still depth and heading hold.
+  r.ex.run_until(2'900'000);
+  EXPECT_EQ(r.arb.mode, controller_mode_t::DEPTH_HEADING_HOLD);
+  // The teleop repeating the fallback it was told of changes nothing; a new request does.
+  r.request(controller_mode_t::DEPTH_HEADING_HOLD, 2'950'000);
+  r.request(controller_mode_t::POSITION_HOLD, 3'000'000);
+  r.ex.run_until(3'500'000);
+  EXPECT_EQ(r.arb.mode, controller_mode_t::POSITION_HOLD) << r.arb.reason;
+  EXPECT_EQ(r.node.counter_value("position_hold.lost"), 1);
+  // on_loss: manual hands the stick straight to the mixer.
+  p.position_loss_mode = controller_mode_t::MANUAL_OPEN_LOOP;
+  Rig m(p);
+  m.feed(0, 2'000'000, kAll, kNoPosition, 1'000'000);
+  m.request(controller_mode_t::POSITION_HOLD, 100'000);
+  m.ex.run_until(1'900'000);
+  EXPECT_EQ(m.arb.mode, controller_mode_t::MANUAL_OPEN_LOOP);
+  EXPECT_EQ(m.mode_out.mode, controller_mode_t::MANUAL_OPEN_LOOP);
 }
 
 // Heading hold uses the attitude only: on an estimate without a depth it holds the heading (the

@@ -202,7 +202,8 @@ TEST(MessageChecks, Arbitration) {
   g.mode = controller_mode_t::WAYPOINTING;
   g.active_source = wrench_t::SOURCE_STATION_KEEP;
   run_table(g, std::vector<Case<arbitration_t>>{
-                   {"mode 9", [](auto& m) { m.mode = 9; }, "mode.unknown"},
+                   {"mode 9", [](auto& m) { m.mode = 9; }, nullptr},
+                   {"mode 10", [](auto& m) { m.mode = 10; }, "mode.unknown"},
                    {"mode -1", [](auto& m) { m.mode = -1; }, "mode.unknown"},
                    {"source 6", [](auto& m) { m.active_source = 6; }, "source.unknown"},
                    {"source none", [](auto& m) { m.active_source = 0; }, nullptr},
@@ -241,7 +242,8 @@ TEST(MessageChecks, ModeArmPath) {
   controller_mode_t c{};
   run_table(c, std::vector<Case<controller_mode_t>>{
                    {"mode 2", [](auto& m) { m.mode = 2; }, nullptr},
-                   {"mode 9", [](auto& m) { m.mode = 9; }, "mode.unknown"},
+                   {"mode 9", [](auto& m) { m.mode = 9; }, nullptr},
+                   {"mode 10", [](auto& m) { m.mode = 10; }, "mode.unknown"},
                });
   EXPECT_EQ(check(arm_request_t{}), nullptr);
   EXPECT_EQ(check(arm_state_t{}), nullptr);

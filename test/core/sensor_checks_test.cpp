@@ -355,6 +355,56 @@ TEST(SensorChecks, Leak) {
       g, "utime -1", [](M& m) { m.utime = -1; }, "utime.range");
 }
 
+TEST(SensorChecks, Dvl) {
+  dvl_t g{};
+  g.utime = 1;
+  g.bottom_lock = true;
+  g.velocity[0] = 0.3;
+  g.velocity_covariance[0] = g.velocity_covariance[4] = g.velocity_covariance[8] = 1e-4;
+  g.velocity_covariance[1] = g.velocity_covariance[3] = 2e-5;
+  g.fom = 0.01;
+  g.altitude = 4.2;
+  g.beams_valid = 4;
+  EXPECT_EQ(check(g), nullptr);
+  using M = dvl_t;
+  for (int i = 0; i < 3; ++i)
+    check_range<M>(
+        g, "velocity", [i](M& m, double v) { m.velocity[i] = v; }, -20, 20, "velocity.range");
+  check_range<M>(
+      g, "velocity_covariance[4]", [](M& m, double v) { m.velocity_covariance[4] = v; }, 0, 100,
+      "velocity_covariance.range");
+  check_range<M>(
+      g, "fom", [](M& m, double v) { m.fom = v; }, 0, 100, "fom.range");
+  check_range<M>(
+      g, "altitude", [](M& m, double v) { m.altitude = v; }, 0, 1e3, "altitude.range");
+  expect_reason<M>(
+      g, "altitude -1 (none)", [](M& m) { m.altitude = -1; }, nullptr);
+  expect_reason<M>(
+      g, "altitude -0.5", [](M& m) { m.altitude = -0.5; }, "altitude.range");
+  expect_reason<M>(
+      g, "asymmetric covariance", [](M& m) { m.velocity_covariance[3] = 0; },
+      "velocity_covariance.asymmetric");
+  expect_reason<M>(
+      g, "off-diagonal NaN", [](M& m) { m.velocity_covariance[5] = kNan; },
+      "velocity_covariance.range");
+  expect_reason<M>(
+      g, "beams 5", [](M& m) { m.beams_valid = 5; }, "beams_valid.range");
+  expect_reason<M>(
+      g, "beams -1 (not reported)", [](M& m) { m.beams_valid = -1; }, nullptr);
+  expect_reason<M>(
+      g, "velocity without lock", [](M& m) { m.bottom_lock = false; }, "velocity.unlocked");
+  expect_reason<M>(
+      g, "no lock, zero velocity",
+      [](M& m) {
+        m.bottom_lock = false;
+        m.velocity[0] = 0;
+        m.altitude = -1;
+      },
+      nullptr);
+  expect_reason<M>(
+      g, "utime -1", [](M& m) { m.utime = -1; }, "utime.range");
+}
+
 TEST(SensorChecks, VehicleStatus) {
   using M = vehicle_status_t;
   M g{};

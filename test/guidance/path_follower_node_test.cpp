@@ -291,7 +291,7 @@ TEST(PathFollowerNode, MalformedInputOfEachTypeIsDroppedCountedAndChangesNothing
     return bad(channels::kPath, p);
   };
   controller_mode_t bad_mode{};
-  bad_mode.mode = 42;  // past POSITION_HOLD (8)
+  bad_mode.mode = 42;  // past DEPTH_HEADING_HOLD (9)
   bad_mode.is_translation = true;
   bad_mode.source = "test";
   // Every bad odometry and path value of test/common/bad_values.hpp, applied to this test's

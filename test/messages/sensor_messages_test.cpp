@@ -2,6 +2,7 @@
 // status): every field set away from its default comes back bit for bit.
 #include <gtest/gtest.h>
 
+#include <tiller/dvl_t.hpp>
 #include <tiller/gnss_fix_t.hpp>
 #include <tiller/heading_t.hpp>
 #include <tiller/imu_t.hpp>
@@ -159,6 +160,31 @@ TEST(SensorMessages, LeakAndVehicleStatus) {
   EXPECT_EQ(rv.latched, vehicle_status_t::EVENT_ALL);
   EXPECT_EQ(rv.action, vehicle_status_t::ACTION_HOLD);
   EXPECT_EQ(rv.reason, v.reason);
+}
+
+TEST(SensorMessages, Dvl) {
+  dvl_t d{};
+  d.utime = 108;
+  d.bottom_lock = true;
+  d.velocity[0] = 0.125;
+  d.velocity[1] = -0.5;
+  d.velocity[2] = 0.0625;
+  d.velocity_covariance[0] = 1e-4;
+  d.velocity_covariance[4] = 2e-4;
+  d.velocity_covariance[8] = 4e-4;
+  d.fom = 0.0123;
+  d.altitude = 3.25;
+  d.beams_valid = 3;
+  d.status = 0;
+  d.sensor = "dvl-a50@192.168.194.95:16171";
+  const auto r = round_trip(d);
+  EXPECT_TRUE(r.bottom_lock);
+  EXPECT_EQ(r.velocity[1], -0.5);
+  EXPECT_EQ(r.velocity_covariance[8], 4e-4);
+  EXPECT_EQ(r.fom, 0.0123);
+  EXPECT_EQ(r.altitude, 3.25);
+  EXPECT_EQ(r.beams_valid, 3);
+  EXPECT_EQ(r.sensor, d.sensor);
 }
 
 }  // namespace

@@ -212,6 +212,9 @@ struct Feed {
       [](TimeUs, const odometry_t&, const test::Truth&) {};
   bool pressure = false;
   bool gnss = true;
+  bool dvl = false;  // at 10 Hz while dvl_on says so
+  std::function<bool(TimeUs)> dvl_on = [](TimeUs) { return true; };
+  std::function<void(TimeUs, dvl_t&)> edit_dvl = [](TimeUs, dvl_t&) {};
   int copies = 1;  // each fix delivered this many times (a driver that repeats an epoch)
 };
 
@@ -240,6 +243,11 @@ Stats fly(NavNode& node, Synthetic& syn, double from_s, const Feed& f = {}) {
     node.on_imu(syn.imu(t), t);
     if (t % 100'000 == 0) node.on_heading(syn.heading(t), t);
     if (f.pressure && t % 50'000 == 0) node.on_pressure(syn.pressure(t), t);
+    if (f.dvl && t % 100'000 == 0 && f.dvl_on(t)) {
+      dvl_t m = syn.dvl(t);
+      f.edit_dvl(t, m);
+      node.on_dvl(m, t);
+    }
     if (f.gnss && t % 200'000 == 0 && f.gnss_on(t)) {
       gnss_fix_t m = syn.gnss(t);
       f.edit_fix(t, m);
@@ -451,6 +459,148 @@ TEST(NavNode, RovWithoutGnssHasDepthAndAttitudeButNoPosition) {
   EXPECT_NE(node.counter_value("odometry.position_invalid"), 0);
   EXPECT_EQ(node.rejected(), node.counter_value("rejected.heading.gate") +
                                  node.counter_value("rejected.depth.gate"));
+}
+
+NavParams rov_dvl_params() {
+  return load_nav_file(std::string(TILLER_SOURCE_DIR) + "/config/nav/rov_dvl.yaml");
+}
+
+TEST(NavEkf, DvlVelocityUpdateByHand) {
+  // P = I on u v w, R = I: K = 1/2 on each, so the state goes half way and the variance halves.
+  Ekf f = hand_filter(1.0);
+  const UpdateResult r =
+      f.update_velocity_body(Eigen::Vector3d(2.0, 0.4, -0.2), Eigen::Matrix3d::Identity(), 0.0);
+  EXPECT_TRUE(r.accepted);
+  EXPECT_NEAR(r.nis, (1.0 + 0.16 + 0.04) / 2, 1e-12);  // y = [1 0.4 -0.2], S = 2 I
+  EXPECT_NEAR(f.x()(kU), 1.5, 1e-12);
+  EXPECT_NEAR(f.x()(kV), 0.2, 1e-12);
+  EXPECT_NEAR(f.x()(kW), -0.1, 1e-12);
+  EXPECT_NEAR(f.P()(kU, kU), 0.5, 1e-12);
+  EXPECT_NEAR(f.P()(kN, kN), 1.0, 1e-12);  // uncorrelated: untouched
+  Ekf g = hand_filter(1.0);
+  EXPECT_FALSE(g.update_velocity_body(Eigen::Vector3d(10, 0, 0), Eigen::Matrix3d::Identity(),
+                                      16.3)
+                   .accepted);  // NIS 40.5 over the gate
+  EXPECT_EQ(g.x()(kU), 1.0);
+}
+
+TEST(NavNode, RovDeadReckonsOnTheDvl) {
+  NavNode node(rov_dvl_params());
+  Synthetic syn({{10, 0.0}, {20, 0.1}, {30, 0.0}}, 3);
+  syn.mutable_truth().d = 12.0;
+  syn.mutable_truth().u = 0.3;
+  syn.mutable_truth().psi = kPi / 2;  // east
+  Feed f;
+  f.pressure = true;
+  f.gnss = false;
+  f.dvl = true;
+  double max_err = 0, last_var = 0, var_5s = 0;
+  bool grows = true;
+  f.at_tick = [&](TimeUs t, const odometry_t& o, const test::Truth& tr) {
+    if (t < 1'000'000) return;
+    EXPECT_EQ(o.valid, int{odometry_t::VALID_ALL} | int{odometry_t::DEAD_RECKONING}) << t;
+    max_err = std::max(max_err, std::hypot(o.position[0] - tr.n, o.position[1] - tr.e));
+    last_var = o.pose_covariance[0] + o.pose_covariance[7];
+    // Sampled every 5 s (a velocity update may take a little off through the correlation).
+    if (t % 5'000'000 == 0) {
+      grows = grows && last_var > var_5s;
+      var_5s = last_var;
+    }
+  };
+  fly(node, syn, 1, f);
+  const double std_m = std::sqrt(last_var / 2);
+  std::printf(
+      "DVL dead reckoning, 60 s at 0.3 m/s with a turn: largest error %.3f m, final "
+      "1-sigma %.3f m\n",
+      max_err, std_m);
+  // 18 m flown; the velocity's noise integrates to a few cm, the heading's (2 deg, filtered)
+  // error turns the track by a fraction of a degree.
+  EXPECT_LT(max_err, 0.3);
+  EXPECT_TRUE(grows);  // dead reckoning: the position's uncertainty only grows
+  EXPECT_GT(std_m, 0.01);
+  EXPECT_LT(std_m, 1.0);
+  EXPECT_GT(node.counter_value("dvl.used"), 590);
+  EXPECT_EQ(node.counter_value("dvl.lost"), 0);
+  EXPECT_NE(node.dvl_status().find("dead reckoning on the DVL: position 1-sigma"),
+            std::string::npos)
+      << node.dvl_status();
+}
+
+TEST(NavNode, DvlLossMakesPositionAndVelocityInvalidUntilItIsBack) {
+  NavNode node(rov_dvl_params());
+  Synthetic syn({{40, 0.0}}, 5);
+  syn.mutable_truth().d = 5.0;
+  syn.mutable_truth().u = 0.2;
+  Feed f;
+  f.pressure = true;
+  f.gnss = false;
+  f.dvl = true;
+  f.dvl_on = [](TimeUs t) { return t < 10'000'000 || t >= 20'000'000; };  // 10 s dropout
+  TimeUs invalid_at = -1, valid_again = -1;
+  double jump = 0, before_n = 0;
+  std::string lost_status;
+  f.at_tick = [&](TimeUs t, const odometry_t& o, const test::Truth&) {
+    const bool pos = o.valid & odometry_t::VALID_POSITION;
+    const bool vel = o.valid & odometry_t::VALID_VELOCITY;
+    EXPECT_EQ(pos, vel) << t;
+    if (t > 1'000'000) {
+      EXPECT_TRUE(o.valid & odometry_t::VALID_DEPTH) << t;
+    }
+    if (t > 10'000'000 && !pos && invalid_at < 0) invalid_at = t;
+    if (t > 20'000'000 && pos && valid_again < 0) {
+      valid_again = t;
+      jump = std::abs(o.position[0] - before_n);
+    }
+    if (t == 15'000'000) lost_status = node.dvl_status();
+    before_n = o.position[0];
+  };
+  fly(node, syn, 0, f);
+  // timeout_s 0.6 past the last report at 9.9 s.
+  EXPECT_GE(invalid_at, 10'400'000);
+  EXPECT_LE(invalid_at, 10'600'000);
+  EXPECT_GE(valid_again, 20'000'000);
+  EXPECT_LE(valid_again, 20'100'000);
+  // The position carries on: a tick's travel (4 mm) and the velocity restarting, no step (an
+  // update instead of the restart moved it 62 mm).
+  EXPECT_LT(jump, 0.02);
+  EXPECT_EQ(node.counter_value("dvl.lost"), 1);
+  EXPECT_NE(lost_status.find("DVL lost: no velocity used for"), std::string::npos) << lost_status;
+}
+
+TEST(NavNode, DvlWithoutLockOrWithAPoorFomIsNotUsed) {
+  NavNode node(rov_dvl_params());
+  Synthetic syn({{5, 0.0}}, 6);
+  Feed f;
+  f.pressure = true;
+  f.gnss = false;
+  f.dvl = true;
+  f.edit_dvl = [](TimeUs t, dvl_t& m) {
+    if (t % 300'000 == 0) {  // every third: no lock
+      m.bottom_lock = false;
+      m.velocity[0] = m.velocity[1] = m.velocity[2] = 0;
+      m.altitude = -1;
+    } else if (t % 300'000 == 100'000) {
+      m.fom = 0.2;  // over max_fom_mps 0.05
+    }
+  };
+  fly(node, syn, 0, f);
+  EXPECT_EQ(node.counter_value("dvl.no_lock"), 17);       // t = 0, 0.3, ..., 4.8 s
+  EXPECT_EQ(node.counter_value("rejected.dvl.fom"), 17);  // 0.1 .. 4.9 s
+  EXPECT_EQ(node.counter_value("dvl.used"), 17);
+  // A lever arm: the DVL 0.2 m forward sees omega x r = (0, 0.1, 0) at r = 0.5 rad/s.
+  NavParams p = rov_dvl_params();
+  p.dvl.lever_arm_m[0] = 0.2;
+  p.dvl.lever_arm_m[2] = 0;
+  NavNode turning(p);
+  Synthetic spin({{20, 0.5}}, 7);
+  spin.mutable_truth().u = 0.0;
+  Feed g;
+  g.pressure = true;
+  g.gnss = false;
+  g.dvl = true;
+  g.edit_dvl = [](TimeUs, dvl_t& m) { m.velocity[1] += 0.2 * 0.5; };
+  fly(turning, spin, 0, g);
+  EXPECT_NEAR(turning.last_odometry().velocity[1], 0.0, 0.01);
 }
 
 TEST(NavNode, FirstFixIsTheDatumAndRunsReplayIdentically) {

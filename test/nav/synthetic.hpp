@@ -15,6 +15,7 @@
 #include <vector>
 
 #include <GeographicLib/LocalCartesian.hpp>
+#include <tiller/dvl_t.hpp>
 #include <tiller/gnss_fix_t.hpp>
 #include <tiller/heading_t.hpp>
 #include <tiller/imu_t.hpp>
@@ -41,6 +42,7 @@ struct Noise {
   double heading_std = deg_to_rad(2.0);
   double attitude_std = deg_to_rad(0.5);
   double depth_std = 0.02;  // m
+  double dvl_std = 0.005;   // m/s per axis (a DVL-A50 class bottom track)
 };
 
 // A leg: for `duration_s`, turn at `r` rad/s (0: straight).
@@ -132,6 +134,23 @@ class Synthetic {
     m.reference = heading_t::REFERENCE_TRUE;
     m.source = heading_t::SOURCE_AHRS;
     m.device = "synthetic";
+    return m;
+  }
+  // The DVL's bottom-track velocity: over ground in body FRD (u through the water plus the
+  // current turned into the body; level).
+  dvl_t dvl(TimeUs t) {
+    dvl_t m{};
+    m.utime = t;
+    m.bottom_lock = true;
+    const double c = std::cos(truth_.psi), s = std::sin(truth_.psi);
+    m.velocity[0] = truth_.u + c * truth_.current_n + s * truth_.current_e + g(noise_.dvl_std);
+    m.velocity[1] = -s * truth_.current_n + c * truth_.current_e + g(noise_.dvl_std);
+    m.velocity[2] = g(noise_.dvl_std);
+    for (int i = 0; i < 3; ++i) m.velocity_covariance[4 * i] = noise_.dvl_std * noise_.dvl_std;
+    m.fom = noise_.dvl_std;
+    m.altitude = 4.0;
+    m.beams_valid = 4;
+    m.sensor = "synthetic";
     return m;
   }
   pressure_t pressure(TimeUs t) {

@@ -18,6 +18,7 @@
 #include <tiller/controller_mode_t.hpp>
 #include <tiller/count_guard.hpp>
 #include <tiller/datum_t.hpp>
+#include <tiller/dvl_t.hpp>
 #include <tiller/esc_bus_status_t.hpp>
 #include <tiller/esc_output_t.hpp>
 #include <tiller/esc_telemetry_t.hpp>
@@ -219,6 +220,7 @@ std::map<std::string, std::function<void()>> checks() {
       m.any_wet = true;
     });
   };
+  c["dvl_t"] = [] { check<dvl_t>([](auto& m) { m.sensor = "dvl-a50"; }); };
   c["vehicle_status_t"] = [] { check<vehicle_status_t>([](auto& m) { m.reason = "leak"; }); };
   c["thruster_test_t"] = [] { check<thruster_test_t>([](auto& m) { m.source = "cockpit"; }); };
   return c;

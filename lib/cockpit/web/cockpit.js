@@ -114,7 +114,7 @@ function render() {
   $('hold').textContent = tc && tc.hold ? tc.hold : '-';
   const arb = msg('TILLER_ARBITRATION'), mode = msg('TILLER_MODE');
   const modes = ['MANUAL_OPEN_LOOP', 'MANUAL_CLOSED_LOOP', 'WAYPOINTING', 'STABILISE', 'DEPTH_HOLD',
-    'HEADING_HOLD', 'RATE', 'SURFACE', 'POSITION_HOLD'];
+    'HEADING_HOLD', 'RATE', 'SURFACE', 'POSITION_HOLD', 'DEPTH_HEADING_HOLD'];
   // The mode in force (the arbitration's) and, when it differs, the request and why it is not.
   const inForce = arb ? arb.mode : (mode ? mode.mode : null);
   const asked = mode && arb && mode.mode !== arb.mode ? ' (asked ' + modes[mode.mode] + ': ' + arb.reason + ')' : '';
