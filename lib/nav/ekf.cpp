@@ -69,6 +69,12 @@ void Ekf::predict(double dt, const Motion& m) {
     f(kV, kBiasAy) = -dt;
     x_(kU) += udot * dt;
     x_(kV) += vdot * dt;
+    if (m.accel_vertical) {
+      const double wdot = m.az + m.q * v(0) - m.p * v(1);
+      f(kW, kU) = m.q * dt;
+      f(kW, kV) = -m.p * dt;
+      x_(kW) += wdot * dt;
+    }
   }
 
   const CoreCovariance pc = P_.topLeftCorner<kCore, kCore>();

@@ -70,6 +70,10 @@ struct Motion {
   double p = 0, q = 0, r = 0;
   double ax = 0, ay = 0;
   bool accel = false;  // false: u and v are random walks (no accelerometer in the model)
+  // With `accel`, also the vertical: w_dot = a_z + q u - p v (a_z m/s^2 down, no bias state: the
+  // DVL's w corrects it); false: w is a random walk (a surface vehicle's w is held at 0).
+  double az = 0;
+  bool accel_vertical = false;
 };
 
 struct UpdateResult {

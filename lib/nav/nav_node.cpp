@@ -110,6 +110,7 @@ void NavNode::advance(TimeUs t) {
   // acceleration is not integrated on).
   motion_.accel =
       p_.imu.use_acceleration && have_imu_ && t - last_imu_ <= from_seconds(p_.imu.timeout_s);
+  motion_.accel_vertical = motion_.accel && p_.depth_source == DepthSource::kPressure;
   ekf_.predict(to_seconds(t - t_), motion_);
   t_ = t;
 }
@@ -289,6 +290,7 @@ void NavNode::on_imu(const imu_t& m, TimeUs now) {
   // f + R^T [0 0 g] = f + g [-sin(theta), sin(phi) cos(theta), .].
   motion_.ax = m.specific_force[0] - kGravity * std::sin(motion_.pitch);
   motion_.ay = m.specific_force[1] + kGravity * std::sin(motion_.roll) * std::cos(motion_.pitch);
+  motion_.az = m.specific_force[2] + kGravity * std::cos(motion_.roll) * std::cos(motion_.pitch);
   attitude_var_[0] = variance_or(m.orientation_covariance[0], p_.imu.default_attitude_std);
   attitude_var_[1] = variance_or(m.orientation_covariance[4], p_.imu.default_attitude_std);
   for (int i = 0; i < 3; ++i)

@@ -3,14 +3,17 @@
 // plus tiller-rov-control's RovControlNode and the 6-DOF SimNode, the programs and configs of
 // config/launch/sim_rov6_joystick.yaml. The water: a constant current (0.3 m/s toward 30 deg by
 // default), the vehicle made slightly positively buoyant (buoyancy = weight + extra_buoyancy_n),
-// starting at rest at `depth_m`. It records every thruster command, to find the largest step of
-// any thruster between two consecutive commands (no thrust step on a switch).
+// starting at rest at `depth_m`. With dvl_nav the odometry is tiller-nav's, on the simulated
+// sensors with the DVL (the ROV's real estimate), instead of the simulator's noisy truth. It
+// records every thruster command, to find the largest step of any thruster between two consecutive
+// commands (no thrust step on a switch).
 #pragma once
 
 #include <algorithm>
 #include <cmath>
 #include <cstdio>
 #include <functional>
+#include <memory>
 #include <stdexcept>
 #include <string>
 #include <vector>
@@ -21,6 +24,7 @@
 #include "control/rov_node.hpp"
 #include "core/angles.hpp"
 #include "flight.hpp"
+#include "nav/nav_node.hpp"
 #include "sim/sim_node.hpp"
 
 namespace tiller::e2e {
@@ -42,6 +46,11 @@ struct RovSetup {
   double orientation_std_deg = 0.1;
   double velocity_std_m_s = 0.005;
   double rate_std_deg_s = 0.2;
+  // The odometry from tiller-nav (config/nav/rov_dvl.yaml) on the simulated sensors
+  // (config/sim/sensors/rov.yaml: IMU, heading, pressure, DVL) instead of the simulator's noisy
+  // truth: the position is the DVL's dead reckoning, with its covariance (trust_position off).
+  bool dvl_nav = false;
+  std::vector<sim::DvlOutage> dvl_outages;  // with dvl_nav: no DVL report at all in these
 };
 
 // The shipped config files of a simulated ROV by name: "seed001_rov6" (RovSetup's defaults),
@@ -78,6 +87,12 @@ inline SimParams rov_sim_params(const RovSetup& s) {
   p.noise.orientation_std_rad = deg_to_rad(s.orientation_std_deg);
   p.noise.linear_velocity_std_m_s = s.velocity_std_m_s;
   p.noise.angular_velocity_std_rad_s = deg_to_rad(s.rate_std_deg_s);
+  if (s.dvl_nav) {
+    p.noise = {};
+    p.publish_odometry = false;
+    p.sensors = sim::load_sensor_file(kSrc + "/config/sim/sensors/rov.yaml", p.step_us);
+    p.sensors.dvl_outages = s.dvl_outages;
+  }
   return p;
 }
 
@@ -89,7 +104,7 @@ inline SimVehicle rov_sim_vehicle(const RovSetup& s) {
 
 inline control::RovControlParams rov_params(const RovSetup& s) {
   control::RovControlParams p = control::load_rov_control_file(kSrc + "/" + s.control);
-  if (s.trust_position) p.require_position_covariance = false;
+  if (s.trust_position && !s.dvl_nav) p.require_position_covariance = false;
   if (s.blend_s >= 0) p.blend_s = s.blend_s;
   return p;
 }
@@ -101,6 +116,10 @@ struct RovRig {
         rov(rov_params(s)) {
     f.ex.add(rov);
     f.ex.add(sim);
+    if (s.dvl_nav) {
+      nav = std::make_unique<nav::NavNode>(nav::load_nav_file(kSrc + "/config/nav/rov_dvl.yaml"));
+      f.ex.add(*nav);
+    }
     f.ex.observe([this](const std::string& ch, const std::uint8_t* d, int n, TimeUs t) {
       if (ch != channels::kThrusterCommand) return;
       thruster_command_t c;
@@ -143,6 +162,7 @@ struct RovRig {
   Flight f;
   SimNode sim;
   control::RovControlNode rov;
+  std::unique_ptr<nav::NavNode> nav;  // with dvl_nav
   thruster_command_t last{};
   double max_step = 0;
   TimeUs max_step_at = 0;
