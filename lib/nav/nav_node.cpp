@@ -110,7 +110,10 @@ void NavNode::advance(TimeUs t) {
   // acceleration is not integrated on).
   motion_.accel =
       p_.imu.use_acceleration && have_imu_ && t - last_imu_ <= from_seconds(p_.imu.timeout_s);
-  motion_.accel_vertical = motion_.accel && p_.depth_source == DepthSource::kPressure;
+  // The vertical too, with a pressure depth and a DVL (the accelerometer's vertical bias has no
+  // state: the DVL's w and the pressure's depth keep it in check, velocity_vertical its room).
+  motion_.accel_vertical =
+      motion_.accel && p_.depth_source == DepthSource::kPressure && p_.dvl.enabled;
   ekf_.predict(to_seconds(t - t_), motion_);
   t_ = t;
 }
@@ -357,7 +360,18 @@ void NavNode::on_pressure(const pressure_t& m, TimeUs now) {
     depth_init_ = true;
     return;
   }
-  if (!ekf_.update_depth(m.depth, var, p_.depth.gate_chi2).accepted) reject(*gate_depth_);
+  if (ekf_.update_depth(m.depth, var, p_.depth.gate_chi2).accepted) {
+    depth_gated_in_a_row_ = 0;
+    return;
+  }
+  reject(*gate_depth_);
+  if (++depth_gated_in_a_row_ >= p_.depth.reset_after) {
+    // The estimate has left the pressure sensor: back to it (and w restarts at 0).
+    ekf_.set_depth(m.depth, var);
+    ekf_.set_state(kW, 0.0, sq(p_.initial_velocity_std_mps));
+    depth_gated_in_a_row_ = 0;
+    ++*resets_;
+  }
 }
 
 void NavNode::on_dvl(const dvl_t& m, TimeUs now) {

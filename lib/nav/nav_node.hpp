@@ -122,7 +122,7 @@ class NavNode : public Node {
   TimeUs last_pressure_ = 0;  // ... of the last pressure sample
   bool have_imu_ = false, have_pressure_ = false;
   bool dead_reckoning_ = false;
-  int gated_in_a_row_ = 0, heading_gated_in_a_row_ = 0;
+  int gated_in_a_row_ = 0, heading_gated_in_a_row_ = 0, depth_gated_in_a_row_ = 0;
   Freshness gnss_fresh_, imu_fresh_, heading_fresh_, pressure_fresh_;
   odometry_t odom_{};
   std::int32_t reported_valid_ = -1;

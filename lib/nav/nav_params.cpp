@@ -88,6 +88,7 @@ NavParams load_nav_params(const Value& root) {
     q.default_std_m = d.number_or("default_std_m", q.default_std_m, {1e-4, 100});
     q.gate_chi2 = d.number_or("gate_chi2", q.gate_chi2, {0, 1e6});
     q.timeout_s = d.number_or("timeout_s", q.timeout_s, {0.01, 60});
+    q.reset_after = static_cast<int>(d.integer_or("reset_after", q.reset_after, 1, 100000));
   });
   section(root, "dvl", [&](const Value& d) {
     auto& q = p.dvl;

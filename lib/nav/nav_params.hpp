@@ -70,6 +70,7 @@ struct NavParams {
     double default_std_m = 0.05;  // when the pressure message says none
     double gate_chi2 = 10.8;
     double timeout_s = 1.0;  // depth invalid past this without a pressure sample
+    int reset_after = 25;    // consecutive gated samples, then the depth is reset to one
   } depth;
   // A Doppler velocity log (TILLER_DVL, dvl_t): an ROV's velocity over ground in body FRD.
   // A report is used with bottom lock and its fom at most max_fom_mps; its covariance (or fom^2
