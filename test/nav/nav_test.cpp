@@ -603,6 +603,28 @@ TEST(NavNode, DvlWithoutLockOrWithAPoorFomIsNotUsed) {
   EXPECT_NEAR(turning.last_odometry().velocity[1], 0.0, 0.01);
 }
 
+// A depth the pressure gate keeps refusing is reset to the sensor after depth.reset_after samples
+// (found in rov_dvl_live_test: an estimate that had run away was never corrected again).
+TEST(NavNode, DepthRefusedInARowIsResetToThePressure) {
+  NavNode node(rov_dvl_params());
+  NullBus bus;
+  node.attach(&bus);
+  Synthetic syn({{6, 0.0}}, 8);
+  syn.mutable_truth().d = 2.0;
+  for (TimeUs t = 0; t <= 6'000'000; t += 50'000) {
+    if (t % node.tick_period() == 0) node.tick(t);
+    pressure_t m = syn.pressure(t);
+    if (t >= 2'000'000) {  // the sensor now reads 5 m deeper: far outside the gate
+      m.depth += 5.0;
+      m.pressure = m.surface_pressure + m.depth * m.water_density * 9.80665;
+    }
+    node.on_pressure(m, t);
+  }
+  EXPECT_EQ(node.counter_value("rejected.depth.gate"), 25);
+  EXPECT_NEAR(node.filter().x()(kD), 7.0, 0.1);
+  EXPECT_EQ(node.counter_value("resets"), 1);
+}
+
 TEST(NavNode, FirstFixIsTheDatumAndRunsReplayIdentically) {
   NavParams p = load_nav_file(std::string(TILLER_SOURCE_DIR) + "/config/nav/usv.yaml");
   NavNode a(p), b(p);
