@@ -1,8 +1,10 @@
 // tiller-mavlink: the MAVLink 2 bridge for QGroundControl and Cockpit (lib/mavlink; docs/
 // ground-stations.md). UDP (or a serial telemetry radio) on one side, LCM on the other.
+#include <sys/timerfd.h>
 #include <unistd.h>
 
 #include <cstdio>
+#include <functional>
 #include <stdexcept>
 
 #include "auth/key.hpp"
@@ -62,15 +64,49 @@ int main(int argc, char** argv) {
                   cfg.transport.udp_peer.c_str(),
                   cfg.node.require_signed ? ", signed frames only" : "");
     } else {
-      static const int fd =
-          mavlink::open_serial(cfg.transport.serial_device, cfg.transport.serial_baud);
+      // The radio: read when readable; a timer (10 Hz) writes what a full port left queued and,
+      // while the port is lost, tries its path again every second. `watched` is the descriptor
+      // the executor polls, dropped as soon as the link closes it (a closed fd in poll() would
+      // spin).
+      static mavlink::SerialLink serial(cfg.transport.serial_device, cfg.transport.serial_baud);
+      static int watched = -1;
+      static std::function<void()> watch;
+      static const auto unwatch_if_lost = [&ex] {
+        if (watched >= 0 && serial.fd() != watched) {
+          ex.remove_fd(watched);
+          watched = -1;
+        }
+      };
+      watch = [&ex, &node] {
+        unwatch_if_lost();
+        if (watched >= 0 || serial.fd() < 0) return;
+        watched = serial.fd();
+        ex.add_fd(watched, [&node](TimeUs now) {
+          long n;
+          while ((n = serial.receive(buf, sizeof buf)) > 0)
+            node.on_bytes(buf, static_cast<std::size_t>(n), false, now);
+          unwatch_if_lost();
+        });
+      };
       node.set_sink([](const std::uint8_t* d, std::size_t n) {
-        if (::write(fd, d, n) < 0) return;  // a full radio buffer drops the frame
+        serial.send(d, n);
+        unwatch_if_lost();
       });
-      ex.add_fd(fd, [&node](TimeUs now) {
-        long n;
-        while ((n = ::read(fd, buf, sizeof buf)) > 0)
-          node.on_bytes(buf, static_cast<std::size_t>(n), false, now);
+      watch();
+      static const int timer = ::timerfd_create(CLOCK_MONOTONIC, TFD_NONBLOCK | TFD_CLOEXEC);
+      if (timer < 0) throw std::runtime_error("timerfd_create failed");
+      const itimerspec every{{0, 100'000'000}, {0, 100'000'000}};
+      ::timerfd_settime(timer, 0, &every, nullptr);
+      ex.add_fd(timer, [](TimeUs now) {
+        std::uint64_t expirations;
+        if (::read(timer, &expirations, sizeof expirations) < 0) return;
+        static TimeUs last_try = 0;
+        serial.flush();
+        if (serial.fd() < 0 && now - last_try >= kUsPerSecond) {
+          last_try = now;
+          serial.reopen();
+        }
+        watch();
       });
       std::printf("tiller-mavlink: serial %s at %d baud\n", cfg.transport.serial_device.c_str(),
                   cfg.transport.serial_baud);

@@ -8,8 +8,10 @@
 #include <unistd.h>
 
 #include <cerrno>
+#include <cstdio>
 #include <cstring>
 #include <stdexcept>
+#include <utility>
 
 namespace tiller::mavlink {
 
@@ -92,6 +94,13 @@ int open_serial(const std::string& device, int baud) {
     throw std::runtime_error("serial " + device + ": not a terminal device");
   }
   ::cfmakeraw(&t);
+  // A radio has no modem lines and (SiK's default) no RTS/CTS: a port left with hardware flow
+  // control stalls every write, one without CLOCAL hangs up on a carrier it never sees.
+  t.c_cflag &= ~static_cast<tcflag_t>(CRTSCTS | CSTOPB | HUPCL);
+  t.c_cflag |= CLOCAL | CREAD;
+  t.c_iflag &= ~static_cast<tcflag_t>(IXON | IXOFF | IXANY);
+  t.c_cc[VMIN] = 1;  // with O_NONBLOCK: EAGAIN when empty, so a read of 0 means a hang-up
+  t.c_cc[VTIME] = 0;
   speed_t s = B57600;
   switch (baud) {
     case 9600:
@@ -130,7 +139,88 @@ int open_serial(const std::string& device, int baud) {
     ::close(fd);
     throw std::runtime_error("serial " + device + ": cannot set it raw");
   }
+  ::tcflush(fd, TCIOFLUSH);
   return fd;
+}
+
+SerialLink::SerialLink(std::string device, int baud)
+    : device_(std::move(device)), baud_(baud), fd_(open_serial(device_, baud)) {
+  queue_.reserve(kQueueBytes);
+}
+
+SerialLink::~SerialLink() {
+  if (fd_ >= 0) ::close(fd_);
+}
+
+void SerialLink::lose(const char* what, int err) {
+  std::fprintf(stderr, "tiller-mavlink: serial %s: %s %s; closed, reopening it every second\n",
+               device_.c_str(), what, err ? std::strerror(err) : "end of file (hung up)");
+  ::close(fd_);
+  fd_ = -1;
+  queue_.clear();  // the rest of a frame is worthless to a new radio
+  reopen_failed_ = false;
+}
+
+long SerialLink::receive(std::uint8_t* buf, std::size_t size) {
+  if (fd_ < 0) return -1;
+  const long n = ::read(fd_, buf, size);
+  if (n > 0) return n;
+  if (n < 0 && (errno == EAGAIN || errno == EWOULDBLOCK || errno == EINTR)) return 0;
+  lose("read:", n < 0 ? errno : 0);
+  return -1;
+}
+
+void SerialLink::flush() {
+  if (fd_ < 0 || queue_.empty()) return;
+  const long w = ::write(fd_, queue_.data(), queue_.size());
+  if (w < 0) {
+    if (errno != EAGAIN && errno != EWOULDBLOCK && errno != EINTR) lose("write:", errno);
+    return;
+  }
+  queue_.erase(queue_.begin(), queue_.begin() + w);
+}
+
+void SerialLink::send(const std::uint8_t* data, std::size_t n) {
+  if (fd_ < 0) return;
+  flush();
+  if (fd_ < 0) return;
+  if (!queue_.empty()) {  // the port is behind: after what is queued, or not at all
+    if (queue_.size() + n > kQueueBytes) {
+      ++dropped_;
+      return;
+    }
+    queue_.insert(queue_.end(), data, data + n);
+    return;
+  }
+  long w = ::write(fd_, data, n);
+  if (w < 0) {
+    if (errno != EAGAIN && errno != EWOULDBLOCK && errno != EINTR) {
+      lose("write:", errno);
+      return;
+    }
+    w = 0;
+  }
+  if (static_cast<std::size_t>(w) < n) {
+    if (n - static_cast<std::size_t>(w) > kQueueBytes) {  // cannot happen: frames are < 300 bytes
+      ++dropped_;
+      return;
+    }
+    queue_.insert(queue_.end(), data + w, data + n);
+  }
+}
+
+bool SerialLink::reopen() {
+  if (fd_ >= 0) return true;
+  try {
+    fd_ = open_serial(device_, baud_);
+  } catch (const std::exception& e) {
+    if (!reopen_failed_) std::fprintf(stderr, "tiller-mavlink: %s; still trying\n", e.what());
+    reopen_failed_ = true;
+    return false;
+  }
+  std::fprintf(stderr, "tiller-mavlink: serial %s: open again at %d baud\n", device_.c_str(),
+               baud_);
+  return true;
 }
 
 }  // namespace tiller::mavlink
