@@ -1,6 +1,9 @@
 // tiller-mavlink's config loader (mavlink/mavlink_config.hpp).
 #include "mavlink/mavlink_config.hpp"
 
+#include <algorithm>
+#include <iterator>
+
 #include <sodium.h>
 #include <sys/stat.h>
 
@@ -92,7 +95,13 @@ MavlinkConfig load_mavlink(const config::Value& root, const std::string& dir) {
   }
   if (auto s = root.find("serial")) {
     c.transport.serial_device = s->string("device");
-    c.transport.serial_baud = static_cast<int>(s->integer_or("baud", 57600, 1200, 921600));
+    c.transport.serial_baud = static_cast<int>(s->integer_or("baud", 57600, 9600, 921600));
+    // The speeds the serial link opens (termios' standard ones): another is a config error here,
+    // naming the key, not a failure when the port is opened.
+    static constexpr int kBauds[] = {9600, 19200, 38400, 57600, 115200, 230400, 460800, 921600};
+    if (std::find(std::begin(kBauds), std::end(kBauds), c.transport.serial_baud) ==
+        std::end(kBauds))
+      s->at("baud").fail("one of 9600, 19200, 38400, 57600, 115200, 230400, 460800, 921600");
   }
   root.check_all_used();
   return c;

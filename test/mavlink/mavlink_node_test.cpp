@@ -353,3 +353,29 @@ TEST(MavlinkNode, MalformedFramesAreCountedAndNothingMoves) {
 
 }  // namespace
 }  // namespace tiller::mavlink
+
+namespace tiller::mavlink {
+namespace {
+
+// serial.baud: a speed the serial link cannot open is a config error naming the key, not a
+// failure when the port opens (the loader took 1200 ... 921600 before).
+TEST(MavlinkConfig, SerialBaudIsOneOfTheStandardSpeeds) {
+  const auto load = [](const std::string& baud) {
+    return load_mavlink(
+        config::Value::parse("serial: {device: /dev/ttyUSB0, baud: " + baud + "}", "radio.yaml"),
+        ".");
+  };
+  EXPECT_EQ(load("115200").transport.serial_baud, 115200);
+  for (const char* bad : {"1200", "56000", "1000000"}) {
+    try {
+      load(bad);
+      ADD_FAILURE() << bad << " accepted";
+    } catch (const config::Error& e) {
+      EXPECT_NE(std::string(e.what()).find("baud"), std::string::npos) << e.what();
+      EXPECT_NE(std::string(e.what()).find("radio.yaml"), std::string::npos) << e.what();
+    }
+  }
+}
+
+}  // namespace
+}  // namespace tiller::mavlink
