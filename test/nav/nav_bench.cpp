@@ -127,6 +127,14 @@ void BM_EkfUpdateDepth(benchmark::State& state) {
 }
 BENCHMARK(BM_EkfUpdateDepth);
 
+void BM_EkfUpdateDvl(benchmark::State& state) {
+  run_update(state, [](Ekf& f, int i) {
+    const Eigen::Vector3d z(0.2 + 0.001 * (i & 1), -0.05, 0.01);
+    return f.update_velocity_body(z, Eigen::Matrix3d::Identity() * 2.5e-5, 16.3).nis;
+  });
+}
+BENCHMARK(BM_EkfUpdateDvl);
+
 struct NullBus : Bus {
   void publish(std::string_view, const std::uint8_t*, int) override {}
 };
@@ -205,6 +213,41 @@ void BM_NavNodeImu(benchmark::State& state) {
   report_allocs(state, before);
 }
 BENCHMARK(BM_NavNodeImu);
+
+// An ROV on the DVL (config/nav/rov_dvl.yaml) after 10 s: one 20 ms tick with its IMU sample,
+// every 5th also a heading, a pressure sample and a DVL report (10 Hz); the once-a-second dead
+// reckoning status line is rebuilt inside the timed loop.
+void BM_NavNodeRovDvlTick(benchmark::State& state) {
+  NullBus bus;
+  NavNode node(load_nav_file(std::string(TILLER_SOURCE_DIR) + "/config/nav/rov_dvl.yaml"));
+  node.attach(&bus);
+  nav::test::Synthetic syn({{1e6, 0.0}}, 2);
+  syn.mutable_truth().u = 0.2;
+  syn.mutable_truth().d = 5.0;
+  TimeUs t = 0;
+  imu_t imu = syn.imu(0);
+  heading_t hd = syn.heading(0);
+  pressure_t pr = syn.pressure(0);
+  dvl_t dv = syn.dvl(0);
+  int i = 0;
+  const auto step = [&] {
+    t += 20'000;
+    imu.utime = t;
+    node.on_imu(imu, t);
+    if (++i % 5 == 0) {
+      hd.utime = pr.utime = dv.utime = t;
+      node.on_heading(hd, t);
+      node.on_pressure(pr, t);
+      node.on_dvl(dv, t);
+    }
+    node.tick(t);
+  };
+  while (t < 10'000'000) step();
+  const long before = tiller::test::allocations();
+  for (auto _ : state) step();
+  report_allocs(state, before);
+}
+BENCHMARK(BM_NavNodeRovDvlTick);
 
 }  // namespace
 
