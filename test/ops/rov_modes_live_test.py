@@ -43,6 +43,8 @@ import sys
 import tempfile
 import time
 
+from t200 import newtons  # the T200 curve: a command -> N
+
 src, build = sys.argv[1], sys.argv[2]
 bindir = os.path.join(build, "bin")
 DEPTH_MAX_M, DEPTH_RMS_M = 0.05, 0.02
@@ -165,19 +167,6 @@ if not (arb and cmd and dem and odo):
     fail("the log lacks arbitration, thruster commands, demands or odometry")
     sys.exit(1)
 ncmd = sum(1 for k in cmd[0] if k.startswith("command["))
-# The thrust (N) of a command: the BlueROV2-class vehicle's T200 curve (t200_12v, the table in
-# lib/vehicle/thrust_curve.cpp: pulse width -> kgf, 1464..1536 us the dead band), so that a
-# command crossing the dead band (+-0.09 with no thrust either side) is not taken for a step.
-CURVE_U = [(us - 1500) / 400 for us in (1100, 1200, 1300, 1400, 1464, 1536, 1600, 1700, 1800, 1900)]
-CURVE_N = [k * 9.80665 for k in (-2.90, -1.95, -1.02, -0.32, 0, 0, 0.39, 1.28, 2.46, 3.71)]
-
-
-def newtons(u):
-    u = min(max(u, CURVE_U[0]), CURVE_U[-1])
-    i = next(i for i in range(1, len(CURVE_U)) if u <= CURVE_U[i])
-    return CURVE_N[i - 1] + (CURVE_N[i] - CURVE_N[i - 1]) * (u - CURVE_U[i - 1]) / (CURVE_U[i] - CURVE_U[i - 1])
-
-
 command = lambda r: [r[f"command[{i}]"] for i in range(ncmd)]
 thrust = lambda r: [newtons(u) for u in command(r)]
 
