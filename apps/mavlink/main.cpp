@@ -97,11 +97,12 @@ int main(int argc, char** argv) {
       if (timer < 0) throw std::runtime_error("timerfd_create failed");
       const itimerspec every{{0, 100'000'000}, {0, 100'000'000}};
       ::timerfd_settime(timer, 0, &every, nullptr);
-      ex.add_fd(timer, [](TimeUs now) {
+      ex.add_fd(timer, [&node](TimeUs now) {
         std::uint64_t expirations;
         if (::read(timer, &expirations, sizeof expirations) < 0) return;
         static TimeUs last_try = 0;
         serial.flush();
+        node.set_link_frames_dropped(serial.frames_dropped());
         if (serial.fd() < 0 && now - last_try >= kUsPerSecond) {
           last_try = now;
           serial.reopen();

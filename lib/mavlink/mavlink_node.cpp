@@ -57,6 +57,7 @@ MavlinkNode::MavlinkNode(MavlinkParams p)
   advertise<mission_command_t>(channels::kMissionCommand);
   advertise<path_t>(channels::kPath);
   bad_crc_ = &counter("rejected.frame.crc");
+  link_dropped_ = &counter("link.frames_dropped");
   v1_ = &counter("rejected.frame.mavlink1");
   bad_sig_ = &counter("rejected.frame.signature");
   replay_ = &counter("rejected.frame.replay");

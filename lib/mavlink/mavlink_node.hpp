@@ -75,6 +75,9 @@ class MavlinkNode : public Node {
   // over) or a piece of a serial stream.
   void on_bytes(const std::uint8_t* data, std::size_t n, bool datagram, TimeUs now);
   void shutdown(TimeUs now) override;
+  // The link's own count of frames it dropped whole (a serial radio's write queue full:
+  // apps/mavlink SerialLink), shown as the heartbeat counter link.frames_dropped.
+  void set_link_frames_dropped(std::int64_t total) { *link_dropped_ = total; }
 
   // For tests.
   double param(std::size_t i) const { return p_.params[i]; }
@@ -169,6 +172,7 @@ class MavlinkNode : public Node {
   Upload up_;
   std::uint16_t current_ = 0;
   std::int64_t last_id_ = 0;
+  std::int64_t* link_dropped_ = nullptr;
   // counters
   std::int64_t *bad_crc_, *v1_, *bad_sig_, *replay_, *unsigned_, *other_station_, *other_target_;
   std::int64_t *frames_ok_, *bad_check_, *bad_manual_, *pilot_timeout_, *param_refused_;

@@ -379,3 +379,19 @@ TEST(MavlinkConfig, SerialBaudIsOneOfTheStandardSpeeds) {
 
 }  // namespace
 }  // namespace tiller::mavlink
+
+namespace tiller::mavlink {
+namespace {
+
+// The serial link's whole-frame drops reach the heartbeat's counters.
+TEST(MavlinkNode, TheLinksDroppedFramesAreACounter) {
+  MavlinkNode node(
+      load_mavlink_file(std::string(TILLER_SOURCE_DIR) + "/config/mavlink/usv_radio.yaml").node);
+  EXPECT_EQ(node.counter_value("link.frames_dropped"), 0);
+  node.set_link_frames_dropped(3);
+  node.set_link_frames_dropped(7);  // the link's running total, not an increment
+  EXPECT_EQ(node.counter_value("link.frames_dropped"), 7);
+}
+
+}  // namespace
+}  // namespace tiller::mavlink
