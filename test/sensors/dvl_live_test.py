@@ -92,7 +92,8 @@ def fake_dvl():
             if n == 0:
                 c.close()   # the DVL goes away (a reboot, a cable)
             else:
-                time.sleep(1.8)   # connected and silent: tiller-dvl's timeout (1 s) says FAULT
+                time.sleep(3.0)   # connected and silent: the timeout (1 s) says FAULT, a 1 Hz heartbeat shows it
+                server.close()    # no third connection: the counters stay as asserted
                 c.close()
     except OSError as e:
         fail(f"fake DVL: {e}")
