@@ -12,27 +12,24 @@
 // pitch and body rates come from the IMU (its fused quaternion, else the accelerometer's tilt);
 // heading from TILLER_HEADING (a magnetic one plus heading.declination_deg; a dual-antenna GNSS
 // heading, source GNSS, is preferred while fresh: the others are then left out, counted in
-// heading.other_ignored); depth from TILLER_PRESSURE, or 0 for a surface vehicle; with sway.enabled
-// the DVL's bottom-track velocity (body FRD over ground, its lever arm taken off) when it has
-// bottom lock and a fom within dvl.max_fom_mps (else counted: dvl.no_lock, rejected.dvl.fom);
-// without GNSS (gnss.enabled false) the first DVL velocity used starts dead reckoning at north =
-// east = 0, DEAD_RECKONING is set, the position's covariance grows and the heartbeat says by how
-// much (position 1-sigma and its growth, once a second); position and velocity are valid only while
-// a DVL report was used within dvl.timeout_s (dvl.lost counts the losses). With sway.enabled the
-// sway constraint at each tick while the IMU is fresh and the forward speed |u| >=
-// sway.min_speed_mps (rejected.sway.gate counts the ones refused). The first measurement of each
-// part sets it; later ones pass the innovation gate or are refused and counted
-// (rejected.<input>.gate); a fix of an epoch already taken (the same gnss_utime) is refused and
-// counted (rejected.gnss.repeated). A correction beyond the fix's own 1-sigma (the first fix after
-// an outage, a reset) reaches the published position over time (recovery.rate_mps; counted in
-// gnss.blended_corrections). `gnss.reset_after` refused fixes in a row reset the position to
-// the fix (gnss.resets). Validity (odometry_t.valid): position while a fix was used and its largest
-// 1-sigma is within limits.position_std_m; DEAD_RECKONING when no fix was used for gnss.timeout_s
-// (the covariance grows); velocity within limits.velocity_std_mps; attitude while the IMU is fresh
-// and the heading within limits.heading_std_deg; depth while a pressure sample is fresh (or a
-// surface vehicle). Bad input (core/message_checks.hpp) is dropped and counted before it changes
-// anything (rejected.<input>.invalid); stale or future by its utime: rejected.<input>.stale /
-// .future. Time comes only from the executor: the filter runs on the times it is told.
+// heading.other_ignored); depth from TILLER_PRESSURE, or 0 for a surface vehicle; the DVL's
+// bottom-track velocity (body FRD over ground) with bottom lock and fom <= dvl.max_fom_mps, and
+// without GNSS dead reckoning on it from north = east = 0, valid while a report was used within
+// dvl.timeout_s (docs/navigation.md "ROVs: the DVL"); with sway.enabled the sway constraint at each
+// tick while the IMU is fresh and the forward speed |u| >= sway.min_speed_mps (rejected.sway.gate
+// counts the ones refused). The first measurement of each part sets it; later ones pass the
+// innovation gate or are refused and counted (rejected.<input>.gate); a fix of an epoch already
+// taken (the same gnss_utime) is refused and counted (rejected.gnss.repeated). A correction beyond
+// the fix's own 1-sigma (the first fix after an outage, a reset) reaches the published position
+// over time (recovery.rate_mps; counted in gnss.blended_corrections). `gnss.reset_after` refused
+// fixes in a row reset the position to the fix (gnss.resets). Validity (odometry_t.valid): position
+// while a fix was used and its largest 1-sigma is within limits.position_std_m; DEAD_RECKONING when
+// no fix was used for gnss.timeout_s (the covariance grows); velocity within
+// limits.velocity_std_mps; attitude while the IMU is fresh and the heading within
+// limits.heading_std_deg; depth while a pressure sample is fresh (or a surface vehicle). Bad input
+// (core/message_checks.hpp) is dropped and counted before it changes anything
+// (rejected.<input>.invalid); stale or future by its utime: rejected.<input>.stale / .future. Time
+// comes only from the executor: the filter runs on the times it is told.
 #pragma once
 
 #include <cstdint>
