@@ -66,7 +66,7 @@ void CockpitNode::on_mission_load(int client, const void* jp, TimeUs now) {
   const mission::Mission& loaded = items_ ? *items_ : m;
   path_active_ = true;
   write_mission_frame(loaded);
-  emit(kAllClients);
+  emit(kEveryClient);  // once per load: never replaced by a state frame before it is sent
   if (seq_) {
     // The first leg starts where the vehicle is (else where the plan starts it, or home).
     const mission::MissionPoint from =

@@ -71,8 +71,12 @@ const std::vector<std::string>& state_channels();
 
 class CockpitNode : public Node {
  public:
+  // Where a frame goes besides one client: kAllClients is latest-value (the state frame: one not
+  // yet sent is replaced by the next); kEveryClient is queued for each page like a reply, never
+  // replaced (the mission frame, which is sent once per load).
   static constexpr int kAllClients = -1;
-  // Where frames go: (client id or kAllClients, one JSON text).
+  static constexpr int kEveryClient = -2;
+  // Where frames go: (client id, kAllClients or kEveryClient, one JSON text).
   using Sink = std::function<void(int client, const std::string& json)>;
   // Parses a mission file's text ("name" says .yaml/.yml, .csv or .plan), lat/lon converted to
   // metres about the datum when one is given; throws config::Error with the line and key.

@@ -180,6 +180,15 @@ void CockpitServer::sink(int client, const std::string& json) {
     if (client == CockpitNode::kAllClients) {
       broadcast_ = json;  // latest value: an unsent frame is replaced
       broadcast_pending_ = true;
+    } else if (client == CockpitNode::kEveryClient) {
+      for (auto& [id, c] : clients_) {
+        if (!c.greeted) continue;  // client_opened sends it after the hello
+        if (c.queue.size() >= kMaxQueued) {
+          ++dropped_;
+          continue;
+        }
+        c.queue.push_back(json);
+      }
     } else {
       const auto it = clients_.find(client);
       if (it == clients_.end()) return;

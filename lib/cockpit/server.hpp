@@ -7,8 +7,9 @@
 // text message, close) to the executor's thread through a queue and an eventfd, so the node runs
 // on one thread, like every node. The node's frames go to one sender thread that writes them to
 // the sockets, so a slow browser never stalls the node (its gamepad deadman keeps running); the
-// state frame is latest-value (a frame not yet sent is replaced by the next), replies and the
-// hello are queued per client (at most kMaxQueued, further ones dropped and counted).
+// state frame is latest-value (a frame not yet sent is replaced by the next); replies, the hello
+// and the mission frame are queued per client (at most kMaxQueued, further ones dropped and
+// counted).
 // Listens on ServerParams::listen (127.0.0.1:8088 by default: loopback only unless another
 // address is configured); at most max_clients WebSocket connections; a WebSocket request whose
 // Origin header names another host than its Host header is refused (a page from another site

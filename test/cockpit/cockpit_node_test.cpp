@@ -428,6 +428,13 @@ TEST(CockpitNode, AnUploadedPlanWithItemsIsFlownLegByLegAndDrawn) {
   for (const auto& f : r.frames)
     if (f.second["type"] == "mission") mf = f.second;
   ASSERT_FALSE(mf.is_null());
+  // Sent once per load, so queued for every page, never latest-value: a state frame the next tick
+  // writes before the sender thread runs would replace it (the browser test's map once stayed
+  // empty so, under load).
+  for (const auto& f : r.frames)
+    if (f.second["type"] == "mission") {
+      EXPECT_EQ(f.first, CockpitNode::kEveryClient);
+    }
   ASSERT_EQ(mf["points"].size(), 5u);  // 4 waypoints and loiter, and home for the return
   EXPECT_NEAR(mf["points"][0][0].get<double>(), 30.0, 0.01);
   EXPECT_NEAR(mf["points"][0][1].get<double>(), 0.0, 0.01);
