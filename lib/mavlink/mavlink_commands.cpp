@@ -256,29 +256,40 @@ void MavlinkNode::on_data_stream(const mavlink_message_t& msg) {
 
 // ---------------------------------------------------------------- parameters
 
+std::size_t MavlinkNode::param_count() const {
+  return kParamCount + p_.gains.size();
+}
+
 void MavlinkNode::send_param(std::size_t i, TimeUs now) {
   char id[MAVLINK_MSG_PARAM_VALUE_FIELD_PARAM_ID_LEN + 1] = {};
-  std::strncpy(id, kParams[i].id, MAVLINK_MSG_PARAM_VALUE_FIELD_PARAM_ID_LEN);
+  const bool own = i < kParamCount;
+  std::strncpy(id, own ? kParams[i].id : p_.gains[i - kParamCount].id.c_str(),
+               MAVLINK_MSG_PARAM_VALUE_FIELD_PARAM_ID_LEN);
+  const double v = own ? p_.params[i] : p_.gains[i - kParamCount].value;
   mavlink_message_t out;
   mavlink_msg_param_value_pack_status(p_.system_id, p_.component_id, writer_.status(), &out, id,
-                                      static_cast<float>(p_.params[i]), MAV_PARAM_TYPE_REAL32,
-                                      kParamCount, static_cast<std::uint16_t>(i));
+                                      static_cast<float>(v), MAV_PARAM_TYPE_REAL32,
+                                      static_cast<std::uint16_t>(param_count()),
+                                      static_cast<std::uint16_t>(i));
   send(out, now);
 }
 
 void MavlinkNode::on_param(const mavlink_message_t& msg, TimeUs now) {
-  auto find = [](const char* id16) -> int {
+  auto find = [this](const char* id16) -> int {
     char id[17] = {};
     std::memcpy(id, id16, 16);
     for (std::size_t i = 0; i < kParamCount; ++i)
       if (std::strcmp(id, kParams[i].id) == 0) return static_cast<int>(i);
+    for (std::size_t i = 0; i < p_.gains.size(); ++i)
+      if (p_.gains[i].id == id) return static_cast<int>(kParamCount + i);
     return -1;
   };
+  const int n = static_cast<int>(param_count());
   if (msg.msgid == MAVLINK_MSG_ID_PARAM_REQUEST_LIST) {
     mavlink_param_request_list_t r;
     mavlink_msg_param_request_list_decode(&msg, &r);
     if (r.target_system != p_.system_id) return;
-    for (std::size_t i = 0; i < kParamCount; ++i) send_param(i, now);
+    for (int i = 0; i < n; ++i) send_param(static_cast<std::size_t>(i), now);
     return;
   }
   if (msg.msgid == MAVLINK_MSG_ID_PARAM_REQUEST_READ) {
@@ -286,7 +297,7 @@ void MavlinkNode::on_param(const mavlink_message_t& msg, TimeUs now) {
     mavlink_msg_param_request_read_decode(&msg, &r);
     if (r.target_system != p_.system_id) return;
     const int i = r.param_index >= 0 ? r.param_index : find(r.param_id);
-    if (i >= 0 && i < static_cast<int>(kParamCount)) send_param(static_cast<std::size_t>(i), now);
+    if (i >= 0 && i < n) send_param(static_cast<std::size_t>(i), now);
     return;
   }
   mavlink_param_set_t s;
@@ -303,19 +314,40 @@ void MavlinkNode::on_param(const mavlink_message_t& msg, TimeUs now) {
     statustext(MAV_SEVERITY_WARNING, "param set refused: no such parameter", now);
     return;
   }
-  const ParamSpec& spec = kParams[static_cast<std::size_t>(i)];
+  const std::size_t k = static_cast<std::size_t>(i);
+  const bool own = k < kParamCount;
+  GainParam* gain = own ? nullptr : &p_.gains[k - kParamCount];
+  const char* name = own ? kParams[k].id : gain->id.c_str();
+  const double lo = own ? kParams[k].min : gain->min, hi = own ? kParams[k].max : gain->max;
   const double v = s.param_value;
-  const bool integer = i == kSysidMygcs;
-  if (!std::isfinite(v) || v < spec.min || v > spec.max || (integer && v != std::floor(v))) {
+  const bool integer = k == kSysidMygcs;
+  if (!std::isfinite(v) || v < lo || v > hi || (integer && v != std::floor(v))) {
     reject(*param_refused_);
     char buf[96];
-    std::snprintf(buf, sizeof buf, "%s refused: %g outside [%g, %g]", spec.id, v, spec.min,
-                  spec.max);
+    if (hi < 1e300)
+      std::snprintf(buf, sizeof buf, "%s refused: %g outside [%g, %g]", name, v, lo, hi);
+    else if (lo > 0 && lo < 1e-300)  // config::Range::positive()
+      std::snprintf(buf, sizeof buf, "%s refused: %g, not > 0", name, v);
+    else
+      std::snprintf(buf, sizeof buf, "%s refused: %g, not >= %g", name, v, lo);
     statustext(MAV_SEVERITY_WARNING, buf, now);
+  } else if (own) {
+    p_.params[k] = v;
   } else {
-    p_.params[static_cast<std::size_t>(i)] = v;
+    // The bridge's copy only: the controller read its file at start (mavlink/mavlink_gains.hpp).
+    gain->value = v;
+    ++*gains_changed_;
+    char buf[96];
+    std::snprintf(buf, sizeof buf, "%s=%g set in bridge only (not live)", name, v);
+    statustext(MAV_SEVERITY_NOTICE, buf, now);
+    const std::string diff = gains_diff(p_.gains);
+    set_health(heartbeat_t::STATE_OK,
+               diff.empty() ? "bridging MAVLink"
+                            : "bridging MAVLink; gains set, not applied (put in the control "
+                              "config): " +
+                                  diff);
   }
-  send_param(static_cast<std::size_t>(i), now);
+  send_param(k, now);
 }
 
 }  // namespace tiller::mavlink

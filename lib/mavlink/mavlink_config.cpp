@@ -12,6 +12,7 @@
 #include <stdexcept>
 
 #include "auth/key.hpp"
+#include "core/config_files.hpp"
 
 namespace tiller::mavlink {
 
@@ -69,6 +70,16 @@ MavlinkConfig load_mavlink(const config::Value& root, const std::string& dir) {
       p.params[i] = m->number_or(key, kParams[i].fallback, {kParams[i].min, kParams[i].max});
     }
     p.z_centre = m->number_or("z_centre", 500.0, {-1000.0, 1000.0});
+  }
+  if (auto cc = root.find("control_config")) {
+    const std::string file = config::resolve_near(cc->as_string(), root.file());
+    try {
+      p.gains = load_gain_params(file);
+    } catch (const std::exception& e) {
+      cc->fail(std::string("a control config (config/control/<vehicle>.yaml) the controllers "
+                           "accept: ") +
+               e.what());
+    }
   }
   p.mission_retry = from_seconds(root.number_or("mission_retry_s", 1.5, {0.1, 10.0}));
   if (auto s = root.find("signing")) {

@@ -9,8 +9,11 @@
 #include <optional>
 #include <string>
 
+#include <vector>
 #include "core/config.hpp"
 #include "core/time.hpp"
+
+#include "mavlink/mavlink_gains.hpp"
 #include "mavlink/mavlink_params.hpp"
 #include "mavlink/signing.hpp"
 
@@ -23,6 +26,7 @@ struct MavlinkParams {
   bool submarine = false;         // HEARTBEAT type SUBMARINE (else SURFACE_BOAT)
   std::string station;            // arm_request_t / manual_demand_t station ("" = main's)
   std::array<double, kParamCount> params{};  // kParams' values (mavlink/mavlink_params.hpp)
+  std::vector<GainParam> gains;          // the controllers' gains (control_config:), after kParams
   double z_centre = 500;                 // MANUAL_CONTROL.z at neutral heave (QGC: 500 of 0..1000)
   bool require_signed = false;           // drop unsigned frames (needs a secret)
   std::optional<Secret> secret;          // the signing secret (signing.*)

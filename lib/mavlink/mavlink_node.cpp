@@ -73,6 +73,7 @@ MavlinkNode::MavlinkNode(MavlinkParams p)
   commands_ = &counter("commands.accepted");
   commands_refused_ = &counter("rejected.command");
   unknown_ = &counter("ignored.unhandled");
+  gains_changed_ = &counter("params.gains_set");
   demand_.station = p_.station;
   demand_.valid = false;
   up_.items.reserve(256);

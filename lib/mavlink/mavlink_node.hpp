@@ -28,9 +28,11 @@
 // MANUAL_CONTROL -> TILLER_MANUAL_DEMAND (x surge, y sway, z heave about z_centre for a
 // submarine, r yaw; each /1000, deadzone, gain), published as it arrives; neutral and invalid
 // until a centred stick, and again after MAN_TIMEOUT without one (then centre again).
-// Parameters: mavlink/mavlink_params.hpp. Missions: mavlink_mission.cpp.
-// Sources: mavlink_node.cpp (frames, LCM in, telemetry), mavlink_commands.cpp (commands, manual
-// control, parameters), mavlink_mission.cpp (the mission protocol).
+// Parameters: mavlink/mavlink_params.hpp (the bridge's), then mavlink/mavlink_gains.hpp (the
+// controllers' gains: a set is kept by the bridge, not applied; counted as params.gains_set).
+// Missions: mavlink_mission.cpp. Sources: mavlink_node.cpp (frames, LCM in, telemetry),
+// mavlink_commands.cpp (commands, manual control, parameters), mavlink_mission.cpp (the mission
+// protocol).
 #pragma once
 
 #include <array>
@@ -81,6 +83,7 @@ class MavlinkNode : public Node {
 
   // For tests.
   double param(std::size_t i) const { return p_.params[i]; }
+  const std::vector<GainParam>& gains() const { return p_.gains; }
   const std::vector<MissionItem>& mission(int type) const { return stored_[type]; }
   bool pilot_centred() const { return centred_; }
   TimeUs interval(std::uint32_t msgid) const;
@@ -130,6 +133,7 @@ class MavlinkNode : public Node {
   void publish_demand(bool valid, TimeUs now);
   void on_param(const mavlink_message_t& msg, TimeUs now);
   void send_param(std::size_t i, TimeUs now);
+  std::size_t param_count() const;  // kParams, then the gains
   void set_interval(std::uint32_t msgid, double interval_us);
   void on_data_stream(const mavlink_message_t& msg);
   // missions (mavlink_mission.cpp)
@@ -176,7 +180,7 @@ class MavlinkNode : public Node {
   // counters
   std::int64_t *bad_crc_, *v1_, *bad_sig_, *replay_, *unsigned_, *other_station_, *other_target_;
   std::int64_t *frames_ok_, *bad_check_, *bad_manual_, *pilot_timeout_, *param_refused_;
-  std::int64_t *mission_refused_, *commands_, *commands_refused_, *unknown_;
+  std::int64_t *mission_refused_, *commands_, *commands_refused_, *unknown_, *gains_changed_;
 };
 
 }  // namespace tiller::mavlink

@@ -215,7 +215,8 @@ def main():
     link = os.path.join(work, "radio")
     cfg = os.path.join(work, "radio.yaml")
     with open(os.path.join(SRC, "config/mavlink/usv_radio.yaml")) as f:
-        text = f.read().replace("device: /dev/ttyUSB0", "device: " + link)
+        text = f.read().replace("device: /dev/ttyUSB0", "device: " + link).replace(
+            "control_config: config/", "control_config: " + os.path.join(SRC, "config") + "/")
     with open(cfg, "w") as f:
         f.write(text)
     secret = bytes.fromhex(subprocess.run(
