@@ -83,20 +83,20 @@ void MavlinkNode::on_command(const mavlink_message_t& msg, std::uint16_t cmd, co
         ack(msg, cmd, MAV_RESULT_TEMPORARILY_REJECTED, now);
         return;
       }
+      end_flight();
       start_path({{odom_.position[0], odom_.position[1]}, {0.0, 0.0}}, now);
       ack(msg, cmd, MAV_RESULT_ACCEPTED, now);
       return;
     }
     case MAV_CMD_MISSION_START: {
-      std::vector<std::array<double, 2>> pts;
       std::string why;
-      if (!mission_path(pts, why)) {
+      if (!build_flight(why)) {
         statustext(MAV_SEVERITY_WARNING, "mission start refused: " + why, now);
         ++*commands_refused_;
         ack(msg, cmd, MAV_RESULT_DENIED, now);
         return;
       }
-      start_path(pts, now);
+      begin_flight(now);
       ack(msg, cmd, MAV_RESULT_ACCEPTED, now);
       return;
     }

@@ -7,6 +7,7 @@
 // and rally points) are written as a QGroundControl .plan and parsed by mission::parse_plan, so the
 // same items are accepted (16, 17, 19, 20, 21, 177, 178; fence 5001-5004; rally 5100) and the
 // same are refused, with its reason as a STATUSTEXT and MISSION_ACK MAV_MISSION_UNSUPPORTED.
+// MISSION_START flies the parsed mission (mavlink_fly.cpp).
 #include <nlohmann/json.hpp>
 
 #include <algorithm>
@@ -23,7 +24,8 @@ namespace {
 constexpr int kMaxRetries = 5;
 constexpr std::uint16_t kMaxItems = 1000;
 
-// The stored sets as one .plan text (mission/plan_file.hpp's format).
+}  // namespace
+
 std::string plan_text(const std::array<std::vector<MavlinkNode::MissionItem>, 3>& s) {
   using nlohmann::json;
   json items = json::array();
@@ -84,8 +86,6 @@ std::string plan_text(const std::array<std::vector<MavlinkNode::MissionItem>, 3>
   return plan.dump();
 }
 
-}  // namespace
-
 void MavlinkNode::mission_ack(std::uint8_t sysid, std::uint8_t compid, std::uint8_t type,
                               std::uint8_t result, TimeUs now) {
   mavlink_message_t out;
@@ -145,33 +145,6 @@ void MavlinkNode::upload_done(TimeUs now) {
   stored_ = std::move(sets);
   if (up_.type == MAV_MISSION_TYPE_MISSION) current_ = 0;
   mission_ack(up_.sysid, up_.compid, up_.type, MAV_MISSION_ACCEPTED, now);
-}
-
-bool MavlinkNode::mission_path(std::vector<std::array<double, 2>>& points, std::string& why) const {
-  if (stored_[MAV_MISSION_TYPE_MISSION].empty()) {
-    why = "no mission uploaded";
-    return false;
-  }
-  if (!have_datum_) {
-    why = "no TILLER_DATUM yet (the mission is in lat/lon)";
-    return false;
-  }
-  try {
-    mission::Mission m = mission::parse_plan(plan_text(stored_), "the uploaded mission");
-    mission::finish_items(m, "the uploaded mission",
-                          mission::GeoPoint{datum_.latitude, datum_.longitude, datum_.altitude});
-    points.clear();
-    for (std::size_t i = current_; i < m.waypoints.size(); ++i)
-      points.push_back({m.waypoints[i].north, m.waypoints[i].east});
-  } catch (const std::exception& e) {
-    why = e.what();
-    return false;
-  }
-  if (points.empty()) {
-    why = "the mission has no point from the current item on";
-    return false;
-  }
-  return true;
 }
 
 void MavlinkNode::on_mission(const mavlink_message_t& msg, TimeUs now) {

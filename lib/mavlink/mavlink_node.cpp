@@ -51,11 +51,13 @@ MavlinkNode::MavlinkNode(MavlinkParams p)
   subscribe(channels::kGnss, &MavlinkNode::on_gnss);
   subscribe(channels::kEscOutput, &MavlinkNode::on_esc_output);
   subscribe(channels::kVehicleStatus, &MavlinkNode::on_vehicle_status);
+  subscribe(channels::kPathProgress, &MavlinkNode::on_progress);
   advertise<manual_demand_t>(channels::kManualDemand);
   advertise<arm_request_t>(channels::kArmRequest);
   advertise<controller_mode_t>(channels::kMode);
   advertise<mission_command_t>(channels::kMissionCommand);
   advertise<path_t>(channels::kPath);
+  advertise<path_speed_t>(channels::kPathSpeed);
   bad_crc_ = &counter("rejected.frame.crc");
   link_dropped_ = &counter("link.frames_dropped");
   v1_ = &counter("rejected.frame.mavlink1");
@@ -111,13 +113,15 @@ void MavlinkNode::on_mode(const controller_mode_t& m, TimeUs) {
   mode_ = m.mode;
 }
 
-void MavlinkNode::on_odometry(const odometry_t& m, TimeUs) {
+void MavlinkNode::on_odometry(const odometry_t& m, TimeUs now) {
   if (checks::check(m) != nullptr) {
     reject(*bad_check_);
     return;
   }
   odom_ = m;
   have_odom_ = true;
+  if (seq_ && (m.valid & odometry_t::VALID_POSITION))
+    fly(seq_->on_position(m.position[0], m.position[1], now), now);
 }
 
 void MavlinkNode::on_datum(const datum_t& m, TimeUs) {
@@ -326,6 +330,7 @@ void MavlinkNode::on_tick(TimeUs now) {
     statustext(MAV_SEVERITY_WARNING, "MANUAL_CONTROL lost: neutral (centre the stick again)", now);
   }
   mission_tick(now);
+  if (seq_) fly(seq_->on_tick(now), now);
 }
 
 void MavlinkNode::send_stream(std::uint32_t msgid, TimeUs now) {

@@ -38,6 +38,7 @@
 #include <array>
 #include <cstdint>
 #include <functional>
+#include <memory>
 #include <string>
 #include <vector>
 
@@ -48,11 +49,15 @@
 #include <tiller/gnss_fix_t.hpp>
 #include <tiller/manual_demand_t.hpp>
 #include <tiller/odometry_t.hpp>
+#include <tiller/path_progress_t.hpp>
+#include <tiller/path_speed_t.hpp>
+#include <tiller/path_t.hpp>
 #include <tiller/power_t.hpp>
 #include <tiller/vehicle_status_t.hpp>
 
 #include "mavlink/frame.hpp"
 #include "mavlink/mavlink_config.hpp"
+#include "mission/sequencer.hpp"
 #include "runtime/node.hpp"
 
 namespace tiller::mavlink {
@@ -144,7 +149,12 @@ class MavlinkNode : public Node {
   void mission_ack(std::uint8_t sysid, std::uint8_t compid, std::uint8_t type, std::uint8_t result,
                    TimeUs now);
   void mission_tick(TimeUs now);
-  bool mission_path(std::vector<std::array<double, 2>>& points, std::string& why) const;
+  // flying the uploaded mission (mavlink_fly.cpp)
+  bool build_flight(std::string& why);
+  void begin_flight(TimeUs now);
+  void fly(mission::Sequencer::Action a, TimeUs now);
+  void end_flight();
+  void on_progress(const path_progress_t& m, TimeUs now);
 
   MavlinkParams p_;
   FrameWriter writer_;
@@ -175,6 +185,12 @@ class MavlinkNode : public Node {
   std::array<std::vector<MissionItem>, kMissionTypes> stored_;
   Upload up_;
   std::uint16_t current_ = 0;
+  std::unique_ptr<mission::Mission> flight_;  // the mission in flight (metres about the datum)
+  std::unique_ptr<mission::Sequencer> seq_;   // flying flight_
+  std::string flight_status_;
+  std::int64_t flight_base_ = 0;  // the first leg's path_id
+  path_t leg_path_{};
+  path_speed_t leg_speed_{};
   std::int64_t last_id_ = 0;
   std::int64_t* link_dropped_ = nullptr;
   // counters
@@ -182,5 +198,9 @@ class MavlinkNode : public Node {
   std::int64_t *frames_ok_, *bad_check_, *bad_manual_, *pilot_timeout_, *param_refused_;
   std::int64_t *mission_refused_, *commands_, *commands_refused_, *unknown_, *gains_changed_;
 };
+
+// The stored mission, fence and rally sets as one QGroundControl .plan text (the format
+// mission::parse_plan reads; DO_JUMP's target seq k as doJumpId k + 1).
+std::string plan_text(const std::array<std::vector<MavlinkNode::MissionItem>, 3>& sets);
 
 }  // namespace tiller::mavlink
