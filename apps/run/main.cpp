@@ -132,6 +132,14 @@ int single(const runtool::RunSpec& s) {
                 o.started_at >= 0 ? o.started_at : o.sim_s);
   std::printf("\n");
   scores::print_scores(o.scores, stdout);
+  if (o.rov && o.depth_from_s >= 0) {
+    std::printf(
+        "depth error         RMS %.3f m (max %.3f m) against the path's depth, from %.1f s "
+        "(first within 0.1 m)\n",
+        o.depth_rms_m, o.depth_max_m, o.depth_from_s);
+  } else if (o.rov) {
+    std::printf("depth error         - (never within 0.1 m of the path's depth)\n");
+  }
   if (o.estimated) {
     std::printf(
         "odometry            dead reckoning %.1f s, invalid %.1f s (after the first valid); "

@@ -132,6 +132,8 @@ void CockpitNode::on_items_odometry(const odometry_t& m, TimeUs now) {
   have_position_ = true;
   position_.north = m.position[0];
   position_.east = m.position[1];
+  if (m.valid & odometry_t::VALID_DEPTH)
+    position_.depth = m.position[2];  // an ROV's leg starts here
   if (!seq_ || !path_active_) return;
   fly_items(seq_->on_position(m.position[0], m.position[1], now), now);
 }

@@ -57,6 +57,18 @@ void RovAxes::set_roles(const std::array<AxisRole, 6>& roles, bool level) {
   }
 }
 
+void RovAxes::guide(int axis, double target, double rate) {
+  Axis& x = ax_[static_cast<std::size_t>(axis)];
+  if (x.role != AxisRole::kHold) return;
+  x.holding = true;
+  x.braking = false;
+  x.since_release = 0;
+  x.target = target;
+  x.ff = rate;
+  x.sp = 0;
+  x.sp_set = true;
+}
+
 double RovAxes::value(int axis, const RovState& s) {
   switch (axis) {
     case kX:
@@ -137,8 +149,16 @@ std::array<double, 6> RovAxes::step(const RovState& s, const std::array<double, 
       x.sp_set = true;
     }
   }
-  // X and Y hold the NED position together.
-  if (ax_[kX].role == AxisRole::kHold && ax_[kY].role == AxisRole::kHold)
+  // X and Y hold the NED position together. Coming from their rate laws (waypointing's transit
+  // to its station hold), their body integrals (a current) carry over, turned into NED.
+  const bool xy = ax_[kX].role == AxisRole::kHold && ax_[kY].role == AxisRole::kHold;
+  if (xy && !xy_held_) {
+    const double c = std::cos(s.yaw), sn = std::sin(s.yaw);
+    i_ne_ = {c * ax_[kX].i - sn * ax_[kY].i, sn * ax_[kX].i + c * ax_[kY].i};
+    i_ne_hold_ = i_ne_;
+  }
+  xy_held_ = xy;
+  if (xy)
     step_xy(s, stick, dt, rule, reduced, out);
   else
     i_ne_ = {0, 0};
@@ -176,7 +196,7 @@ std::array<double, 6> RovAxes::step(const RovState& s, const std::array<double, 
           o = law(a, 0, x.sp, v, false, dt, rule, reduced[i]);
         } else if (x.holding) {
           x.sp = 0;
-          o = law(a, error(a, s, x.target), 0, v, true, dt, rule, reduced[i]);
+          o = law(a, error(a, s, x.target), x.ff, v, true, dt, rule, reduced[i]);
           x.i_hold = x.i;
         } else {
           // Released (or entered while moving): brake, the setpoint ramping to 0 at max_accel
@@ -199,6 +219,7 @@ std::array<double, 6> RovAxes::step(const RovState& s, const std::array<double, 
         break;
       }
     }
+    x.ff = 0;  // guide() sets it for one step
     if (a == kZ && controlled(x.role)) {
       // A force along NED down, in the body frame: R^T [0 0 F].
       vertical_ = o;

@@ -89,6 +89,11 @@ class RovAxes {
   // The rate setpoint in force (kRate, a kHold override or its brake).
   double setpoint(int axis) const { return ax_[static_cast<std::size_t>(axis)].sp; }
   double integral(int axis) const { return ax_[static_cast<std::size_t>(axis)].i; }
+  // Guidance (waypointing): a kHold axis holds `target` from this step on (neither braking nor
+  // overridden while its stick is 0), with `rate` (m/s or rad/s, the target's own rate of change)
+  // as the hold law's rate setpoint: out = kp e + kd (rate - v) + I. X and Y take their targets
+  // as NED north and east. Other roles: ignored. The feed-forward lasts one step.
+  void guide(int axis, double target, double rate = 0);
   // The force along NED down the Z law asks for (N), before it is turned into the body frame.
   double vertical_force() const { return vertical_; }
 
@@ -104,6 +109,7 @@ class RovAxes {
     double sp = 0;             // the rate setpoint in force (ramped at max_accel)
     double target = 0;
     double i = 0;
+    double ff = 0;  // guide()'s rate for this step (0 otherwise)
   };
   // The axis' measured value (hold) and rate.
   static double value(int axis, const RovState& s);
@@ -126,6 +132,7 @@ class RovAxes {
   std::array<double, 2> angle_now_{};  // roll, pitch of the step's state
   std::array<double, 2> i_ne_{};       // X and Y holding position: their integral in NED (N)
   std::array<double, 2> i_ne_hold_{}, i_ne_brake_{};  // ... when last holding, at the brake
+  bool xy_held_ = false;  // X and Y held together in the last step (i_ne_ is theirs)
 };
 
 }  // namespace tiller::control

@@ -85,11 +85,14 @@ bool plan_rov_mode(std::int8_t mode, const std::array<bool, 6>& actuated, bool p
     case controller_mode_t::DEPTH_HEADING_HOLD:
       p = {{P, P, H, H, H, H}, true, false};
       break;
-    case controller_mode_t::MANUAL_CLOSED_LOOP:
     case controller_mode_t::WAYPOINTING:
+      p = {{R, R, H, H, H, H}, true, false};
+      break;
+    case controller_mode_t::MANUAL_CLOSED_LOOP:
       std::snprintf(buf, sizeof buf,
                     "%s refused: a surface-vehicle mode; an ROV flies manual, stabilise, depth "
-                    "hold, heading hold, rate, surface, position hold or depth and heading hold",
+                    "hold, heading hold, rate, surface, position hold, depth and heading hold or "
+                    "waypointing",
                     words);
       return refuse(buf);
     default:
@@ -108,7 +111,7 @@ bool plan_rov_mode(std::int8_t mode, const std::array<bool, 6>& actuated, bool p
     missing = lacks({5});
   } else if (mode == controller_mode_t::DEPTH_HEADING_HOLD) {
     missing = lacks({2, 5});
-  } else if (mode == controller_mode_t::POSITION_HOLD) {
+  } else if (mode == controller_mode_t::POSITION_HOLD || mode == controller_mode_t::WAYPOINTING) {
     missing = lacks({0, 1, 2, 5});
   }
   if (missing >= 0) {
@@ -118,6 +121,8 @@ bool plan_rov_mode(std::int8_t mode, const std::array<bool, 6>& actuated, bool p
   }
   if (mode == controller_mode_t::POSITION_HOLD && !position_valid)
     return refuse("position hold refused: the odometry carries no valid position");
+  if (mode == controller_mode_t::WAYPOINTING && !position_valid)
+    return refuse("waypointing refused: the odometry carries no valid position");
   for (std::size_t a = 0; a < 6; ++a)
     if (!actuated[a]) p.roles[a] = AxisRole::kOff;
   if (uses_depth(p) && !depth_valid) {

@@ -25,8 +25,14 @@
 // sensor, or a layout without heave, such as the 4-thruster ROV). A held axis is overridden by its
 // stick and holds the new value on release (control/ rov_axes.hpp). An axis the layout cannot
 // actuate (Allocator::unactuated) is never controlled: kOff. A mode whose needs the layout does not
-// meet is refused with a reason that names the axis. MANUAL_CLOSED_LOOP and WAYPOINTING are the
-// USVs' modes: refused here.
+// meet is refused with a reason that names the axis. MANUAL_CLOSED_LOOP is the USVs' mode: refused
+// here.
+//   WAYPOINTING       a mission (autonomy: the mixer's gate waits for the operator's START; the
+//                     stick is not in the path): surge and sway track the path follower's
+//                     velocity setpoint (kRate), depth and heading are held on references the
+//                     node moves toward the path's depth and the follower's heading (RovAxes::
+//                     guide), level; at the end all four hold the station target. Needs surge,
+//                     sway, heave and yaw, and a valid position
 #pragma once
 
 #include <array>

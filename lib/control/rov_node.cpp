@@ -1,12 +1,14 @@
 #include "control/rov_node.hpp"
 
 #include <algorithm>
+#include <cmath>
 #include <cstdio>
 #include <string_view>
 
 #include <tiller/heartbeat_t.hpp>
 
 #include "control/integrator_gate.hpp"
+#include "core/angles.hpp"
 #include "core/message_checks.hpp"
 #include "runtime/channels.hpp"
 
@@ -54,6 +56,16 @@ RovControlNode::RovControlNode(const RovControlParams& p, const Vehicle& vehicle
   subscribe(channels::kOdometry, &RovControlNode::on_odometry);
   subscribe(channels::kAllocationStatus, &RovControlNode::on_allocation);
   subscribe(channels::kThrusterCommand, &RovControlNode::on_thruster_command);
+  for (Freshness* f : {&setpoint_fresh_, &station_fresh_, &progress_fresh_})
+    f->set_limit(from_seconds(p.input_timeout_s));
+  subscribe(channels::kVelocitySetpoint, &RovControlNode::on_setpoint);
+  subscribe(channels::kStationTarget, &RovControlNode::on_station_target);
+  subscribe(channels::kPath, &RovControlNode::on_path);
+  subscribe(channels::kPathProgress, &RovControlNode::on_progress);
+  bad_setpoint_ = &counter("rejected.velocity_setpoint.invalid");
+  bad_station_ = &counter("rejected.station_target.invalid");
+  bad_path_ = &counter("rejected.path.invalid");
+  bad_progress_ = &counter("rejected.path_progress.invalid");
   advertise<wrench_t>(channels::kWrenchRov);
   advertise<arbitration_t>(channels::kArbitration);
   advertise<controller_mode_t>(channels::kMode);  // position hold's fallback (fall_back)
@@ -108,6 +120,7 @@ void RovControlNode::on_mode(const controller_mode_t& m, TimeUs now) {
   }
   if (m.mode == requested_) return;  // a repeat (the teleop repeats its mode every second)
   requested_ = m.mode;
+  if (m.mode != controller_mode_t::WAYPOINTING) refused_waypointing_ = false;
   ModePlan plan;
   if (m.mode == controller_mode_t::MANUAL_OPEN_LOOP ||
       plan_rov_mode(m.mode, actuated_, position_valid(now), depth_fresh_.fresh(now), vehicle_name_,
@@ -115,6 +128,13 @@ void RovControlNode::on_mode(const controller_mode_t& m, TimeUs now) {
     switch_to(m.mode, plan, now);
     return;
   }
+  // A mission's waypointing is asked again with its repeats (tiller-mission's TILLER_MODE every
+  // second), so it starts once the position is valid (the mixer's gate still waits for START);
+  // a pilot's mode is not: a refused position hold never engages by itself later.
+  const bool retry = m.mode == controller_mode_t::WAYPOINTING;
+  if (retry) requested_ = -1;
+  if (retry && refused_waypointing_) return;  // counted and said once
+  refused_waypointing_ = retry;
   ++*unavailable_;  // a well-formed request the vehicle cannot fly: counted, not a bad message
   char buf[kReasonRoom];
   std::snprintf(buf, sizeof buf, "%s; still in %s", refusal_.c_str(), rov_mode_words(mode_));
@@ -138,6 +158,10 @@ void RovControlNode::switch_to(std::int8_t mode, const ModePlan& plan, TimeUs no
   }
   leaving_ = false;
   blending_ = p_.blend_s > 0;
+  if (mode == controller_mode_t::WAYPOINTING && mode_ != mode) {
+    depth_ref_ = state_.depth;  // the references start where the vehicle is
+    heading_ref_ = state_.yaw;
+  }
   plan_ = plan;
   mode_ = mode;
   axes_.set_roles(plan.roles, plan.level);
@@ -149,6 +173,7 @@ void RovControlNode::fall_back(TimeUs now) {
   // The position is lost (odometry fresh, but without a valid position or velocity: the DVL's
   // bottom lock lost, its driver stopped): the configured mode, else heading hold, else manual.
   ++*position_lost_;
+  const std::int8_t from = mode_;
   const bool depth = depth_fresh_.fresh(now);
   ModePlan plan;
   std::int8_t to = p_.position_loss_mode;
@@ -169,8 +194,8 @@ void RovControlNode::fall_back(TimeUs now) {
   char buf[kReasonRoom];
   std::snprintf(buf, sizeof buf,
                 "position lost (no valid position in the odometry: DVL bottom lock or driver): "
-                "position hold -> %s; select position hold again to resume",
-                rov_mode_words(to));
+                "%s -> %s; select %s again to resume",
+                rov_mode_words(from), rov_mode_words(to), rov_mode_words(from));
   set_reason(buf);
   set_health(heartbeat_t::STATE_DEGRADED, status_);
 }
@@ -259,6 +284,113 @@ void RovControlNode::on_thruster_command(const thruster_command_t& m, TimeUs now
   cmd_fresh_.mark(now, m.utime, clock_offset());
 }
 
+void RovControlNode::on_setpoint(const velocity_setpoint_t& m, TimeUs now) {
+  if (!on_time(setpoint_fresh_, m.utime, now, "velocity_setpoint")) return;
+  if (checks::check(m) != nullptr) {
+    setpoint_fresh_.reset();
+    reject(*bad_setpoint_);
+    return;
+  }
+  setpoint_ = m;
+  setpoint_fresh_.mark(now, m.utime, clock_offset());
+}
+
+void RovControlNode::on_station_target(const station_target_t& m, TimeUs now) {
+  if (!on_time(station_fresh_, m.utime, now, "station_target")) return;
+  // As tiller-station-keep takes it: the contract, and an active target within 1e6 m.
+  const bool far =
+      m.active && !(std::fabs(m.position[0]) <= 1e6 && std::fabs(m.position[1]) <= 1e6 &&
+                    std::fabs(m.position[2]) <= 1e6);
+  if (far || checks::check(m) != nullptr) {
+    station_fresh_.reset();
+    reject(*bad_station_);
+    return;
+  }
+  station_ = m;
+  station_fresh_.mark(now, m.utime, clock_offset());
+}
+
+void RovControlNode::on_path(const path_t& m, TimeUs) {
+  if (checks::check(m) != nullptr) {
+    reject(*bad_path_);
+    return;
+  }
+  path_ = m;  // a new path: the one copy it needs (not per tick)
+}
+
+void RovControlNode::on_progress(const path_progress_t& m, TimeUs now) {
+  if (!on_time(progress_fresh_, m.utime, now, "path_progress")) return;
+  if (checks::check(m) != nullptr) {
+    progress_fresh_.reset();
+    reject(*bad_progress_);
+    return;
+  }
+  progress_ = m;
+  progress_fresh_.mark(now, m.utime, clock_offset());
+}
+
+double RovControlNode::path_depth() const {
+  const auto& w = path_.waypoints;
+  if (w.empty() || progress_.path_id != path_.path_id) return depth_ref_;  // no path: as it is
+  const auto n = static_cast<std::int32_t>(w.size());
+  const std::int32_t s = progress_.segment;
+  if (progress_.complete || s < 0 || s + 1 >= n)
+    return w[static_cast<std::size_t>(n - 1)].position[2];
+  const auto& a = w[static_cast<std::size_t>(s)].position;
+  const auto& b = w[static_cast<std::size_t>(s + 1)].position;
+  const double dn = b[0] - a[0], de = b[1] - a[1], l2 = dn * dn + de * de;
+  const double t =
+      l2 > 0 ? std::clamp(((state_.north - a[0]) * dn + (state_.east - a[1]) * de) / l2, 0.0, 1.0)
+             : 1.0;
+  return a[2] + t * (b[2] - a[2]);
+}
+
+void RovControlNode::guide_roles(TimeUs now, std::array<AxisRole, 6>& roles,
+                                 std::array<double, 6>& stick) {
+  stick = {};  // the pilot's stick is not in waypointing's path
+  at_station_ = station_fresh_.fresh(now) && station_.active;
+  const bool follow = !at_station_ && setpoint_fresh_.fresh(now) && setpoint_.active;
+  if (!follow) {
+    // The station target, or no guidance (none yet, or lost): X and Y hold (where the vehicle
+    // stops, without a target).
+    roles[0] = roles[1] = AxisRole::kHold;
+    return;
+  }
+  double u = setpoint_.velocity[0], v = setpoint_.velocity[1];
+  if (setpoint_.frame == velocity_setpoint_t::FRAME_NED) {
+    const double c = std::cos(state_.yaw), s = std::sin(state_.yaw);
+    u = c * setpoint_.velocity[0] + s * setpoint_.velocity[1];
+    v = -s * setpoint_.velocity[0] + c * setpoint_.velocity[1];
+  }
+  stick[0] = std::clamp(u / p_.axes[0].max_rate, -1.0, 1.0);
+  stick[1] = std::clamp(v / p_.axes[1].max_rate, -1.0, 1.0);
+}
+
+void RovControlNode::guide_targets(TimeUs now, double dt) {
+  if (dt <= 0) return;
+  // Depth: toward the path's depth at half the heave max_rate.
+  const double dz = std::clamp(path_depth() - depth_ref_, -0.5 * p_.axes[2].max_rate * dt,
+                               0.5 * p_.axes[2].max_rate * dt);
+  depth_ref_ += dz;
+  axes_.guide(2, depth_ref_, dz / dt);
+  // Heading: toward the follower's (or the station's) heading at half the yaw max_rate.
+  const bool hv = at_station_
+                      ? station_.heading_valid
+                      : setpoint_fresh_.fresh(now) && setpoint_.active && setpoint_.heading_valid;
+  double dh = 0;
+  if (hv) {
+    const double goal = at_station_ ? station_.heading : setpoint_.target_heading;
+    dh = std::clamp(angle_diff(goal, heading_ref_), -0.5 * p_.axes[5].max_rate * dt,
+                    0.5 * p_.axes[5].max_rate * dt);
+    heading_ref_ = wrap_pi(heading_ref_ + dh);
+  }
+  axes_.guide(5, heading_ref_, dh / dt);
+  if (at_station_) {
+    axes_.guide(0, station_.position[0]);
+    axes_.guide(1, station_.position[1]);
+  }
+}
+
 void RovControlNode::publish(TimeUs now, std::int8_t source, bool valid) {
   wrench_.utime = now;
   wrench_.valid = valid;
@@ -298,9 +430,11 @@ void RovControlNode::on_tick(TimeUs now) {
     publish(now, wrench_t::SOURCE_MANUAL_DEMAND, false);
     return;
   }
-  if (mode_ == controller_mode_t::POSITION_HOLD && !leaving_ && odom_ok && !position_valid(now))
+  if ((mode_ == controller_mode_t::POSITION_HOLD || mode_ == controller_mode_t::WAYPOINTING) &&
+      !leaving_ && odom_ok && !position_valid(now))
     fall_back(now);
-  if (!odom_ok || !pilot_ok || (uses_depth(plan_) && !depth_fresh_.fresh(now))) {
+  const bool guided = mode_ == controller_mode_t::WAYPOINTING && !leaving_;
+  if (!odom_ok || !(pilot_ok || guided) || (uses_depth(plan_) && !depth_fresh_.fresh(now))) {
     // No state (or no depth, in a mode that uses it) or no pilot: an invalid wrench, so neutral
     // through the mixer's gate (input lost, then its disarm).
     last_out_ = {};
@@ -319,6 +453,7 @@ void RovControlNode::on_tick(TimeUs now) {
       stick[2] = std::clamp(-p_.surface_speed_m_s / p_.axes[2].max_rate, -1.0, 1.0);
     }
   }
+  if (guided) guide_roles(now, roles, stick);
   if (!leaving_) axes_.set_roles(roles, plan_.level);
 
   const IntegratorRule rule =
@@ -326,6 +461,13 @@ void RovControlNode::on_tick(TimeUs now) {
   std::array<bool, 6> reduced{};
   if (alloc_ok && alloc_source_ == wrench_t::SOURCE_ROV_CONTROL) reduced = reduced_;
   const double dt = static_cast<double>(tick_period()) * 1e-6;
+  if (guided) {
+    if (rule == IntegratorRule::kReset) {  // not started: the references follow the vehicle
+      depth_ref_ = state_.depth;
+      heading_ref_ = state_.yaw;
+    }
+    guide_targets(now, dt);
+  }
   std::array<double, 6> own = axes_.step(state_, stick, dt, rule, reduced);
 
   if (!thrust_on) {

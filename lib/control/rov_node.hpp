@@ -32,7 +32,17 @@
 // stopped) falls back to position.on_loss (depth and heading hold by default: translations from
 // the stick), blended like any switch, counted (position_hold.lost), said in the arbitration's
 // reason and a DEGRADED heartbeat, and published on TILLER_MODE (source "rov-control") so the
-// pilot's station shows it and repeats it: position hold resumes only when selected again. Bad
+// pilot's station shows it and repeats it: position hold resumes only when selected again.
+// Waypointing (a mission from tiller-mission, the cockpit or a ground station: autonomy, so the
+// mixer's gate waits for the operator's START, and the stick is not needed) follows
+// TILLER_VELOCITY_SETPOINT (NED, turned into body u, v for the surge and sway rate laws), holds
+// the depth on a reference moved at half the heave max_rate toward the path's depth (TILLER_PATH
+// waypoints' position[2], interpolated along the segment TILLER_PATH_PROGRESS names by the
+// vehicle's projection on it) and the heading on one moved at half the yaw max_rate toward the
+// follower's target heading; once TILLER_STATION_TARGET is active it holds that point, the last
+// waypoint's depth and the target's heading (RovAxes::guide, with the references' rates as
+// feed-forward). Without a fresh, active setpoint or target it holds where it is (brakes and
+// captures, as position hold). A lost position falls back as position hold's does. Bad
 // input is dropped and counted (rejected.<input>.<reason>). Pure: messages and time in; no clock;
 // nothing allocates per tick.
 #pragma once
@@ -48,7 +58,11 @@
 #include <tiller/controller_mode_t.hpp>
 #include <tiller/manual_demand_t.hpp>
 #include <tiller/odometry_t.hpp>
+#include <tiller/path_progress_t.hpp>
+#include <tiller/path_t.hpp>
+#include <tiller/station_target_t.hpp>
 #include <tiller/thruster_command_t.hpp>
+#include <tiller/velocity_setpoint_t.hpp>
 #include <tiller/wrench_t.hpp>
 
 #include "allocation/allocator.hpp"
@@ -72,7 +86,15 @@ class RovControlNode : public Node {
   void on_odometry(const odometry_t& m, TimeUs now);
   void on_allocation(const allocation_status_t& m, TimeUs now);
   void on_thruster_command(const thruster_command_t& m, TimeUs now);
+  // Waypointing's guidance (tiller-path-follower's outputs and tiller-mission's path).
+  void on_setpoint(const velocity_setpoint_t& m, TimeUs now);
+  void on_station_target(const station_target_t& m, TimeUs now);
+  void on_path(const path_t& m, TimeUs now);
+  void on_progress(const path_progress_t& m, TimeUs now);
   void on_tick(TimeUs now) override;
+  // Waypointing's references (m NED down, rad): what the depth and heading hold this tick.
+  double depth_reference() const { return depth_ref_; }
+  double heading_reference() const { return heading_ref_; }
 
   std::int8_t mode() const { return mode_; }  // in force
   bool leaving() const { return leaving_; }   // blending back into manual
@@ -88,6 +110,11 @@ class RovControlNode : public Node {
   void fall_back(TimeUs now);
   void set_reason(const char* text);
   void publish(TimeUs now, std::int8_t source, bool valid);
+  // Waypointing: the roles of X and Y and the stick that carries the setpoint this tick.
+  void guide_roles(TimeUs now, std::array<AxisRole, 6>& roles, std::array<double, 6>& stick);
+  // Waypointing: the depth and heading references (and the station's point) into the axes.
+  void guide_targets(TimeUs now, double dt);
+  double path_depth() const;  // the depth the path asks for where the vehicle is (m)
 
   RovControlParams p_;
   std::unique_ptr<Allocator> alloc_;
@@ -96,7 +123,8 @@ class RovControlNode : public Node {
   RovAxes axes_;
   ModePlan plan_;
   std::int8_t mode_;
-  int requested_ = -1;  // the last TILLER_MODE acted on (-1: none yet)
+  int requested_ = -1;                // the last TILLER_MODE acted on (-1: none yet)
+  bool refused_waypointing_ = false;  // waypointing refused, retried on its repeats
   bool leaving_ = false;
   bool blending_ = false;
   TimeUs blend_start_ = 0;
@@ -112,6 +140,16 @@ class RovControlNode : public Node {
   std::int8_t gate_ = thruster_command_t::GATE_DISARMED;
   std::int8_t cmd_source_ = wrench_t::SOURCE_NONE;
   AllocationResult manual_result_;
+  // Waypointing's guidance.
+  Freshness setpoint_fresh_, station_fresh_, progress_fresh_;
+  velocity_setpoint_t setpoint_{};
+  station_target_t station_{};
+  path_t path_{};
+  path_progress_t progress_{};
+  bool at_station_ = false;  // this tick holds the station target
+  double depth_ref_ = 0, heading_ref_ = 0;
+  std::int64_t *bad_setpoint_ = nullptr, *bad_station_ = nullptr, *bad_path_ = nullptr,
+               *bad_progress_ = nullptr;
   // Outputs.
   wrench_t wrench_{};
   controller_mode_t mode_msg_{};

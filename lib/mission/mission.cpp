@@ -22,9 +22,13 @@ MissionPoint load_point(const config::Value& v) {
     p.east = xy[1];
     return p;
   }
-  if (!v.is_map()) v.fail("[north, east] or {north, east, heading_deg}");
+  if (!v.is_map()) v.fail("[north, east] or {north, east, heading_deg, depth}");
   p.north = v.number("north", {-1e6, 1e6});
   p.east = v.number("east", {-1e6, 1e6});
+  if (v.has("depth")) {
+    p.has_depth = true;
+    p.depth = v.number("depth", {0, 11000});
+  }
   if (v.has("heading_deg")) {
     p.has_heading = true;
     p.heading = wrap_pi(v.angle_deg("heading_deg", {-360, 360}));
@@ -125,6 +129,12 @@ Mission load_mission(const config::Value& root, const std::string& base_dir) {
   } else {
     m.waypoints = load_csv_points(base_dir + "/" + root.string("waypoints_csv"));
   }
+  // A point without a depth keeps the one before it (the first: the mission's `depth`).
+  double depth = root.number_or("depth", 0, {0, 11000});
+  for (auto& w : m.waypoints) {
+    if (!w.has_depth) w.depth = depth;
+    depth = w.depth;
+  }
   root.check_all_used();
   return m;
 }
@@ -196,6 +206,7 @@ void set_waypoints(path_t& p, const std::vector<MissionPoint>& points) {
     waypoint_t x{};
     x.position[0] = w.north;
     x.position[1] = w.east;
+    x.position[2] = w.depth;
     x.has_heading = w.has_heading;
     x.heading = w.heading;
     p.waypoints.push_back(x);

@@ -7,15 +7,17 @@
 //   start: {north: 0, east: 0, heading_deg: 0}   # where a simulated run starts the vehicle
 //   time_limit_s: 170            # simulated time a test or the benchmark allows
 //   station_keep_s: 30           # how long to hold the goal after the path is complete
-//   waypoints:                   # each [north, east] m, or {north, east, heading_deg}
+//   depth: 0                     # m below the surface, an ROV's (a boat ignores it)
+//   waypoints:                   # each [north, east] m, or {north, east, heading_deg, depth}
 //     - [0, 0]
-//     - {north: 20, east: 0, heading_deg: 90}
+//     - {north: 20, east: 0, heading_deg: 90, depth: 3}   # depth: m, kept by the points after
 //   (or `waypoints_csv: file.csv`, relative to the mission file)
 // CSV: a header line `north,east` or `north,east,heading_deg`, then one point per line; an
-// empty heading cell means no heading. Errors name the file, the line and what was expected.
-// Missions with items (loiter, return home, speed, jump, fence; lat/lon or local metres) come from
-// a QGroundControl .plan (mission/plan_file.hpp) or our YAML's `items:` (mission/items_yaml.cpp);
-// both parse into this one model; docs/missions.md has every format and item.
+// empty heading cell means no heading (no depth column: an ROV's CSV mission flies at `depth` 0).
+// Errors name the file, the line and what was expected. Missions with items (loiter, return home,
+// speed, jump, fence; lat/lon or local metres) come from a QGroundControl .plan
+// (mission/plan_file.hpp) or our YAML's `items:` (mission/items_yaml.cpp); both parse into this one
+// model; docs/missions.md has every format and item.
 #pragma once
 
 #include <cstdint>
@@ -33,6 +35,11 @@ struct MissionPoint {
   double north = 0, east = 0;  // m
   bool has_heading = false;
   double heading = 0;  // rad NED
+  // m below the surface (NED down, >= 0): where an ROV flies the point (tiller-rov-control's
+  // waypointing); 0 for a boat, which ignores it. has_depth: given in the file (a point without
+  // one takes the point before it's, the first the mission's `depth`, default 0).
+  double depth = 0;
+  bool has_depth = false;
 };
 
 // A WGS84 position (degrees; altitude m above the ellipsoid, ignored by a boat).
@@ -113,7 +120,7 @@ std::vector<MissionPoint> load_csv_points(const std::string& path);
 
 // The path message for a mission (path_id identifies it: a new id restarts the follower).
 path_t to_path(const Mission& m, std::int64_t path_id, std::int64_t utime);
-// The points as the path's waypoints (n_waypoints too), reusing its storage.
+// The points as the path's waypoints (n_waypoints too, position[2] the depth), reusing its storage.
 void set_waypoints(path_t& p, const std::vector<MissionPoint>& points);
 
 }  // namespace tiller::mission

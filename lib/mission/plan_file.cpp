@@ -19,6 +19,9 @@ struct Ctx {
   Mission& m;
   std::map<long, int> jump_ids;  // doJumpId -> index into m.items of the item at or after it
   std::vector<std::pair<std::size_t, long>> jumps;  // (item, target doJumpId) to resolve
+  // mission.vehicleType 12 (MAV_TYPE_SUBMARINE): an item's altitude is minus its depth (ArduSub's
+  // and QGroundControl's convention for a submarine); a boat's altitude is ignored.
+  bool submarine = false;
 };
 
 [[noreturn]] void fail(const std::string& where, const std::string& why) {
@@ -68,6 +71,14 @@ void simple_item(Ctx& c, const json& j, const std::string& where, int index) {
       fail(at, "expected params[4], params[5] a latitude and longitude in degrees");
     it.has_point = true;
     it.geo = GeoPoint{p[4], p[5], std::isfinite(p[6]) ? p[6] : 0.0};
+    if (c.submarine) {
+      if (!(it.geo->alt_m <= 0 && it.geo->alt_m >= -11000))
+        fail(at,
+             "a submarine's altitude (params[6]) is minus its depth: expected a number in "
+             "[-11000, 0] m");
+      it.point.depth = -it.geo->alt_m;
+      it.point.has_depth = true;
+    }
   };
   switch (cmd) {
     case 16:  // NAV_WAYPOINT
@@ -161,6 +172,7 @@ Mission parse_plan(const std::string& text, const std::string& file) {
   const json& mis = root.value("mission", json::object());
   if (!mis.is_object() || !mis.contains("items") || !mis["items"].is_array())
     fail(file, "mission.items: expected a list of items");
+  c.submarine = mis.value("vehicleType", 0) == 12;
   if (mis.contains("plannedHomePosition"))
     m.home = lat_lon(mis["plannedHomePosition"], file + ": mission.plannedHomePosition");
   const json& items = mis["items"];

@@ -12,12 +12,14 @@
 //   177 DO_JUMP           to the item with doJumpId params[0], params[1] times (-1: for ever)
 //   178 DO_CHANGE_SPEED   params[1] m/s from here on (-1: no change, -2: back to the default)
 //   206 DO_SET_CAM_TRIGG_DIST  (QGroundControl's survey camera trigger) ignored: no camera
-// Positions are params[4], params[5] (lat, lon deg) in a global frame (0, 3, 5, 6; the altitude is
-// ignored). Refused, the whole plan, with "FILE: item I (command C): why": take-off (22) and
-// every other command, a terrain or local frame, a position that is not a lat/lon, servo and
-// relay commands (181-184: no outputs on our vehicles). mission.plannedHomePosition is home.
-// geoFence.polygons [{inclusion, polygon [[lat, lon]...]}], geoFence.circles [{inclusion,
-// circle {center [lat, lon], radius m}}]; rallyPoints.points [[lat, lon, alt]].
+// Positions are params[4], params[5] (lat, lon deg) in a global frame (0, 3, 5, 6; a boat's
+// altitude is ignored; with mission.vehicleType 12, a submarine, params[6] is minus the depth, as
+// ArduSub plans it, and must be <= 0). Refused, the whole plan, with "FILE: item I (command C):
+// why": take-off (22) and every other command, a terrain or local frame, a position that is not a
+// lat/lon, servo and relay commands (181-184: no outputs on our vehicles).
+// mission.plannedHomePosition is home. geoFence.polygons [{inclusion, polygon [[lat, lon]...]}],
+// geoFence.circles [{inclusion, circle {center [lat, lon], radius m}}]; rallyPoints.points [[lat,
+// lon, alt]].
 #pragma once
 
 #include <string>

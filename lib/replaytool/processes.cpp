@@ -1,6 +1,8 @@
 #include "replaytool/processes.hpp"
 
 #include "control/control_config.hpp"
+#include "control/rov_config.hpp"
+#include "control/rov_node.hpp"
 #include "control/station_keep_node.hpp"
 #include "control/velocity_pid_node.hpp"
 #include "core/config.hpp"
@@ -82,6 +84,16 @@ const std::vector<ProcessEntry>& replayable_processes() {
        [](const std::string& c) {
          return std::make_unique<control::StationKeepNode>(
              control::load_station_keep_node_params(config::Value::load_file(c)));
+       },
+       {},
+       /*integrating=*/true},
+      {"rov-control",
+       "config/control/bluerov2.yaml",
+       // Not TILLER_MODE: its position-loss fallback shares the channel with the mission's and
+       // the pilot's requests, so a log cannot say which are its own.
+       {ch::kArbitration, ch::kWrenchRov},
+       [](const std::string& c) {
+         return std::make_unique<control::RovControlNode>(control::load_rov_control_file(c));
        },
        {},
        /*integrating=*/true},

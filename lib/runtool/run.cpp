@@ -16,6 +16,8 @@
 #include <stdexcept>
 
 #include "control/control_config.hpp"
+#include "control/rov_config.hpp"
+#include "control/rov_node.hpp"
 #include "control/station_keep_node.hpp"
 #include "control/velocity_pid_node.hpp"
 #include "core/config.hpp"
@@ -55,6 +57,21 @@ Setting parse_setting(const std::string& text) {
 }
 
 namespace {
+
+// The path's depth at the point of the horizontally nearest segment (m); a single point's own.
+double path_depth_at(const std::vector<mission::MissionPoint>& w, double n, double e) {
+  if (w.size() == 1) return w[0].depth;
+  double best = 1e300, depth = 0;
+  for (std::size_t k = 0; k + 1 < w.size(); ++k) {
+    const double dn = w[k + 1].north - w[k].north, de = w[k + 1].east - w[k].east;
+    const double l2 = dn * dn + de * de;
+    const double t =
+        l2 > 0 ? std::clamp(((n - w[k].north) * dn + (e - w[k].east) * de) / l2, 0.0, 1.0) : 0.0;
+    const double d = std::hypot(n - (w[k].north + t * dn), e - (w[k].east + t * de));
+    if (d < best) best = d, depth = w[k].depth + t * (w[k + 1].depth - w[k].depth);
+  }
+  return depth;
+}
 
 std::string existing(const std::string& given, const std::string& fallback, const char* option) {
   const std::string path = app::resolve_path(given.empty() ? fallback : given);
@@ -126,8 +143,10 @@ RunOutcome run(const RunSpec& spec) {
   SimNode sim(sp, sv);
   std::unique_ptr<nav::NavNode> navn;
   if (out.estimated) {
-    out.files.nav =
-        existing(spec.nav_file, surface ? "config/nav/usv_sim.yaml" : "config/nav/rov.yaml", "nav");
+    // An ROV's estimate for a mission: on the DVL (its position), as config/launch/
+    // sim_bluerov2_dvl.yaml runs it.
+    out.files.nav = existing(
+        spec.nav_file, surface ? "config/nav/usv_sim.yaml" : "config/nav/rov_dvl.yaml", "nav");
     const auto nroot = load(out.files.nav, "nav", spec.settings);
     navn = std::make_unique<nav::NavNode>(nav::load_nav_params(nroot));
     nroot.check_all_used();
@@ -146,9 +165,28 @@ RunOutcome run(const RunSpec& spec) {
   mroot.check_all_used();
   MixerNode mixer(mp, load_vehicle_file(mp.vehicle_file));
 
-  const auto croot = load(f.control, "control", spec.settings);
-  control::VelocityPidNode vpid(control::load_velocity_pid_node_params(croot));
-  control::StationKeepNode skeep(control::load_station_keep_node_params(croot));
+  // A boat: the velocity PID and station keeping (the arbiter in the PID's node). An ROV:
+  // tiller-rov-control, in waypointing (the mission's TILLER_MODE), from its own control file.
+  // The simulator's truth odometry carries no covariance, which tiller-rov-control's position
+  // modes require of an estimate: on truth, an ROV's run lifts that requirement (and so writes no
+  // replay manifest, see replay_manifest).
+  std::vector<Setting> settings = spec.settings;
+  if (!surface && !out.estimated)
+    settings.push_back({"control", "rov_control.position.require_covariance", "false"});
+  const auto croot = load(f.control, "control", settings);
+  std::unique_ptr<control::VelocityPidNode> vpid;
+  std::unique_ptr<control::StationKeepNode> skeep;
+  std::unique_ptr<control::RovControlNode> rovc;
+  if (surface) {
+    vpid =
+        std::make_unique<control::VelocityPidNode>(control::load_velocity_pid_node_params(croot));
+    skeep =
+        std::make_unique<control::StationKeepNode>(control::load_station_keep_node_params(croot));
+  } else {
+    rovc = std::make_unique<control::RovControlNode>(control::load_rov_control(croot));
+    if (auto d = croot.find("description")) d->mark_used();
+    croot.check_all_used();
+  }
 
   const auto groot = load(f.guidance, "guidance", spec.settings);
   const auto fparams = guidance::load_follower_node_params(groot);
@@ -166,8 +204,13 @@ RunOutcome run(const RunSpec& spec) {
   ex.add(sim);
   if (navn) ex.add(*navn);  // the estimator right after the plant, as the sensors' consumer
   const auto add_autonomy = [&] {
-    for (Node* n : std::initializer_list<Node*>{&esc, &mixer, &mnode, &follower, &vpid, &skeep})
-      ex.add(*n);
+    for (Node* n : std::initializer_list<Node*>{&esc, &mixer, &mnode, &follower}) ex.add(*n);
+    if (surface) {
+      ex.add(*vpid);
+      ex.add(*skeep);
+    } else {
+      ex.add(*rovc);
+    }
   };
   const TimeUs settle = from_seconds(std::max(spec.settle_s, 0.0));
   if (settle == 0) add_autonomy();
@@ -179,6 +222,10 @@ RunOutcome run(const RunSpec& spec) {
     log = std::make_unique<LogWriter>(spec.log_file);
   }
   std::vector<Event> scored;
+  out.rov = !surface;
+  odometry_t gt;
+  double depth_sq = 0;
+  std::size_t depth_n = 0;
   path_progress_t pr;
   velocity_setpoint_t vsp;
   odometry_t od;
@@ -247,6 +294,17 @@ RunOutcome run(const RunSpec& spec) {
       if (valid) invalid_since = -1;
       was_valid |= valid;
     }
+    if (out.rov && mnode.began_at() >= 0 && ch == channels::kGroundTruth &&
+        gt.decode(d, 0, n) == n) {
+      const double err =
+          gt.position[2] - path_depth_at(m.waypoints, gt.position[0], gt.position[1]);
+      if (out.depth_from_s < 0 && std::fabs(err) <= 0.1) out.depth_from_s = to_seconds(t);
+      if (out.depth_from_s >= 0) {
+        depth_sq += err * err;
+        ++depth_n;
+        out.depth_max_m = std::max(out.depth_max_m, std::fabs(err));
+      }
+    }
     if (ch == channels::kGroundTruth || ch == channels::kOdometry || ch == channels::kPath ||
         ch == channels::kPathProgress) {
       scored.push_back(Event{ch, t, std::vector<std::uint8_t>(d, d + n)});
@@ -274,6 +332,7 @@ RunOutcome run(const RunSpec& spec) {
     if (out.completed && to_seconds(t) >= out.completed_at + hold) break;
   }
   out.sim_s = to_seconds(t);
+  if (depth_n > 0) out.depth_rms_m = std::sqrt(depth_sq / static_cast<double>(depth_n));
   out.started_at = mnode.began_at() >= 0 ? to_seconds(mnode.began_at()) : -1.0;
   std::vector<scores::Goal> path;
   for (const auto& w : m.waypoints) path.push_back({w.north, w.east, w.has_heading, w.heading});
@@ -283,6 +342,9 @@ RunOutcome run(const RunSpec& spec) {
 
 std::string replay_manifest(const RunSpec& spec, const RunFiles& f) {
   if (!spec.settings.empty() || spec.settle_s > 0) return "";
+  const bool surface =
+      load_sim_vehicle_file(f.vehicle).dynamics.kind == sim::ModelKind::kSurface3Dof;
+  if (!surface && f.nav.empty()) return "";  // an ROV on truth: a setting changed (run())
   std::ostringstream os;
   os << "# Written by tiller-run: the config of each process of this lockstep run.\n"
      << "# A lockstep log: replay must match bit for bit, heartbeats included.\n"
@@ -292,8 +354,12 @@ std::string replay_manifest(const RunSpec& spec, const RunFiles& f) {
   for (const auto& a : spec.sim_args) os << ", \"" << a << "\"";
   if (!f.sensors.empty()) os << ", --sensors, " << f.sensors;
   os << "]}\n"
-     << "  esc: " << f.esc << "\n  mixer: " << f.mixer << "\n  velocity-pid: " << f.control
-     << "\n  station-keep: " << f.control << "\n  path-follower: " << f.guidance;
+     << "  esc: " << f.esc << "\n  mixer: " << f.mixer;
+  if (surface)
+    os << "\n  velocity-pid: " << f.control << "\n  station-keep: " << f.control;
+  else
+    os << "\n  rov-control: " << f.control;
+  os << "\n  path-follower: " << f.guidance;
   if (!f.nav.empty()) os << "\n  nav: " << f.nav;
   os << "\nheartbeats: true\ntolerance: 0\ntime_tolerance_ms: 0\n";
   return os.str();

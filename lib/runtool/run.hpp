@@ -99,6 +99,13 @@ struct RunOutcome {
   // cleared (normalised).
   double max_position_step_m = 0;
   double recovery_command_step = 0;
+  // An ROV (the vehicle file's model is not the surface one): the true depth against the path's
+  // (the mission's waypoint depths, interpolated along the horizontally nearest segment), m,
+  // from when the vehicle first comes within 0.1 m of it (the dive from the surface left out)
+  // to the end of the run; -1 when it never does or the vehicle is a boat.
+  bool rov = false;
+  double depth_rms_m = -1, depth_max_m = -1;
+  double depth_from_s = -1;  // s: when the depth was first within 0.1 m
 };
 
 // Runs it. Config errors throw config::Error (file, line, key); others std::runtime_error.

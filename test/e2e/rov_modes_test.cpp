@@ -193,7 +193,7 @@ TEST(RovModes, TheFourThrusterRovIsRefusedWhatNeedsHeaveRollOrPitch) {
                  {M::STABILISE, "roll (K) or pitch (M)"},
                  {M::RATE, "roll (K) or pitch (M)"},
                  {M::POSITION_HOLD, "heave (Z)"},
-                 {M::WAYPOINTING, "surface-vehicle mode"}};
+                 {M::WAYPOINTING, "heave (Z)"}};
   for (const auto& x : refused) {
     r.command(x.mode);
     r.run(100);

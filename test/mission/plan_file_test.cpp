@@ -2,6 +2,7 @@
 // geodesy against a hand-computed figure, and each refusal naming the item and the command.
 #include <gtest/gtest.h>
 
+#include <cstdio>
 #include <fstream>
 #include <string>
 
@@ -245,6 +246,76 @@ TEST(YamlItems, GeodeticNeedsAHomeAndJumpsMustLand) {
   EXPECT_NE(fence.find("item 0: the point (30.0 m north, 1.0 m east) is outside the fence"),
             std::string::npos)
       << fence;
+}
+
+// Depth, an ROV's (NED down, m below the surface), in both formats and on the path.
+namespace depth {
+
+std::string plan(int vehicle_type, double alt1, double alt2) {
+  char buf[1024];
+  std::snprintf(buf, sizeof buf,
+                R"({"fileType": "Plan", "version": 1, "geoFence": {}, "rallyPoints": {},
+    "mission": {"version": 2, "vehicleType": %d, "plannedHomePosition": [63.44, 10.4, 0],
+      "items": [
+        {"type": "SimpleItem", "command": 16, "frame": 3, "doJumpId": 1,
+         "params": [0, 0, 0, null, 63.4401, 10.4, %g]},
+        {"type": "SimpleItem", "command": 16, "frame": 3, "doJumpId": 2,
+         "params": [0, 0, 0, null, 63.4402, 10.4, %g]}]}})",
+                vehicle_type, alt1, alt2);
+  return buf;
+}
+
+}  // namespace depth
+
+TEST(MissionDepth, YamlPointsKeepTheDepthBeforeThemAndThePathCarriesIt) {
+  const auto m = load_mission_file(write_tmp("depth.yaml", R"(name: d
+depth: 2
+waypoints:
+  - [0, 0]
+  - {north: 5, east: 0, depth: 3.5}
+  - [10, 0]
+  - {north: 10, east: 5, heading_deg: 90, depth: 0}
+)"));
+  ASSERT_EQ(m.waypoints.size(), 4u);
+  EXPECT_EQ(m.waypoints[0].depth, 2.0);  // the mission's
+  EXPECT_EQ(m.waypoints[1].depth, 3.5);  // its own
+  EXPECT_EQ(m.waypoints[2].depth, 3.5);  // the one before
+  EXPECT_EQ(m.waypoints[3].depth, 0.0);  // back at the surface
+  const path_t p = to_path(m, 7, 0);
+  EXPECT_EQ(p.waypoints[1].position[2], 3.5);
+  EXPECT_EQ(p.waypoints[2].position[2], 3.5);
+  // A boat's mission names no depth: every point at 0.
+  const auto b = load_mission_file(src("config/missions/default.yaml"));
+  for (const auto& w : b.waypoints) EXPECT_EQ(w.depth, 0.0);
+  // Out of range: the key, the file and the range.
+  const std::string e =
+      refusal(write_tmp("bad_depth.yaml", "waypoints:\n  - {north: 1, east: 2, depth: -1}\n"));
+  EXPECT_NE(e.find("bad_depth.yaml"), std::string::npos) << e;
+  EXPECT_NE(e.find("depth"), std::string::npos) << e;
+  EXPECT_NE(e.find("11000"), std::string::npos) << e;
+}
+
+TEST(MissionDepth, ASubmarinesPlanAltitudeIsMinusItsDepth) {
+  // vehicleType 12 (MAV_TYPE_SUBMARINE): -2.5 m altitude is 2.5 m deep.
+  auto m = parse_plan(depth::plan(12, -2.5, -4), "sub.plan");
+  finish_items(m, "sub.plan", std::nullopt);
+  ASSERT_EQ(m.waypoints.size(), 2u);
+  EXPECT_EQ(m.waypoints[0].depth, 2.5);
+  EXPECT_EQ(m.waypoints[1].depth, 4.0);
+  EXPECT_NEAR(m.waypoints[1].north, 22.3, 0.1);  // 0.0002 deg of latitude, about 22.3 m
+  // A boat's (vehicleType 10, a surface boat) altitude is ignored.
+  auto b = parse_plan(depth::plan(10, 5, 7), "boat.plan");
+  finish_items(b, "boat.plan", std::nullopt);
+  EXPECT_EQ(b.waypoints[0].depth, 0.0);
+  // A submarine above the water: refused, naming the item.
+  try {
+    parse_plan(depth::plan(12, -1, 3), "up.plan");
+    ADD_FAILURE() << "a positive altitude for a submarine was taken";
+  } catch (const config::Error& e) {
+    EXPECT_NE(std::string(e.what()).find("up.plan: item 1 (command 16)"), std::string::npos)
+        << e.what();
+    EXPECT_NE(std::string(e.what()).find("minus its depth"), std::string::npos) << e.what();
+  }
 }
 
 }  // namespace

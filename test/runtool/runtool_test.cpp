@@ -332,5 +332,46 @@ TEST(RunTool, SweepRowsAreTheSingleRunsInGridOrder) {
   EXPECT_NE(bad[1].error.find("max_speed"), std::string::npos) << bad[1].error;
 }
 
+// An ROV's mission (issue 34): the BlueROV2-class vehicle flies config/missions/rov_transect.yaml
+// (three 12 m lines at 2 and 3 m depth) by tiller-rov-control's waypointing, on tiller-nav's DVL
+// dead reckoning (config/nav/rov_dvl.yaml, the default for an ROV on estimated state), in a
+// 0.2 m/s current toward 30 deg: every waypoint reached, the path's depth held, the goal held, and
+// the run replays bit for bit (its manifest names rov-control and nav). On truth the same.
+TEST(RunTool, AnRovFliesTheTransectAtDepthOnTheDvlInACurrent) {
+  RunSpec s;
+  s.mission_file = kSrc + "/config/missions/rov_transect.yaml";
+  s.vehicle_file = kSrc + "/config/vehicles/bluerov2.yaml";
+  s.sim_args = {"--odometry", "estimated", "--current-speed", "0.2", "--current-toward-deg", "30"};
+  const auto o = run(s);
+  ASSERT_TRUE(o.estimated);
+  ASSERT_TRUE(o.rov);
+  EXPECT_NE(o.files.nav.find("config/nav/rov_dvl.yaml"), std::string::npos) << o.files.nav;
+  ASSERT_TRUE(o.completed);
+  const auto& p = o.scores.path_scores;
+  EXPECT_EQ(p.waypoints_reached, 6);
+  EXPECT_EQ(p.waypoints_missed, 0);
+  EXPECT_LE(p.time_to_complete, 130.0);  // 60 m at 0.4 m/s, the dive and the turns
+  EXPECT_LE(p.cross_track_rms, 0.15);    // m, the truth against the path
+  EXPECT_LE(p.final_position_error, 0.25);
+  EXPECT_GE(o.depth_from_s, 0.0);
+  EXPECT_LE(o.depth_from_s, 20.0);  // the dive to 2 m at 0.2 m/s
+  EXPECT_LE(o.depth_rms_m, 0.05);
+  EXPECT_LE(o.depth_max_m, 0.15);        // the change to 3 m is the reference's 0.2 m/s ramp
+  EXPECT_GT(o.dead_reckoning_s, 100.0);  // all of it on the DVL
+  EXPECT_EQ(o.disarm_requests, 0u);
+  const std::string m = replay_manifest(s, o.files);
+  EXPECT_NE(m.find("\n  rov-control: "), std::string::npos) << m;
+  EXPECT_EQ(m.find("velocity-pid"), std::string::npos) << m;
+  // On the truth: the same path within a few cm.
+  RunSpec t = s;
+  t.sim_args = {"--current-speed", "0.2", "--current-toward-deg", "30"};
+  const auto ot = run(t);
+  ASSERT_TRUE(ot.completed);
+  EXPECT_EQ(ot.scores.path_scores.waypoints_missed, 0);
+  EXPECT_LE(ot.scores.path_scores.cross_track_rms, 0.12);
+  EXPECT_LE(ot.depth_rms_m, 0.05);
+  EXPECT_EQ(replay_manifest(t, ot.files), "");  // a setting changed in memory (no covariance)
+}
+
 }  // namespace
 }  // namespace tiller::runtool
