@@ -49,6 +49,23 @@ int main(int argc, char** argv) {
           std::string("mavlink@") + (gethostname(host, sizeof host - 1) == 0 ? host : "");
     }
     mavlink::MavlinkNode node(cfg.node);
+    if (!cfg.node.secret_file.empty()) {  // SETUP_SIGNING's new secret into signing.key_file
+      const std::string file = cfg.node.secret_file;
+      node.set_key_sink([file](const mavlink::Secret& s) {
+        try {
+          auth::Key k;
+          k.bytes = s;
+          k.id = auth::key_id(s);
+          auth::write_key_file(file, k, true);
+          std::fprintf(stderr, "tiller-mavlink: SETUP_SIGNING: new secret saved to %s\n",
+                       file.c_str());
+          return true;
+        } catch (const std::exception& e) {
+          std::fprintf(stderr, "tiller-mavlink: SETUP_SIGNING: not saved: %s\n", e.what());
+          return false;
+        }
+      });
+    }
     LiveExecutor ex(args.lcm_url, args.auth);
     ex.add(node);
     static std::uint8_t buf[65536];

@@ -31,6 +31,12 @@ class FrameWriter {
   mavlink_status_t* status() { return &status_; }
   // The frame of a packed message into out (kMaxFrame bytes); returns its length.
   std::size_t finish(mavlink_message_t& msg, TimeUs now, std::uint8_t* out);
+  // A new secret (SETUP_SIGNING): frames are signed with it from now, their timestamps at least
+  // `initial` (10 us units since 2015) and still increasing.
+  void set_secret(const Secret& secret, std::uint64_t initial) {
+    secret_ = secret;
+    if (initial > last_ts_) last_ts_ = initial;
+  }
 
  private:
   std::uint8_t sysid_, compid_, link_;

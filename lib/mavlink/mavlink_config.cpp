@@ -90,7 +90,10 @@ MavlinkConfig load_mavlink(const config::Value& root, const std::string& dir) {
       s->fail(
           "one of key_file: FILE (tiller-key new FILE), passphrase_file: FILE or "
           "vehicle_key: true");
-    if (kf) p.secret = auth::load_key_file(resolve(dir, kf->as_string())).bytes;
+    if (kf) {
+      p.secret_file = resolve(dir, kf->as_string());
+      p.secret = auth::load_key_file(p.secret_file).bytes;
+    }
     if (pf) p.secret = passphrase_secret(resolve(dir, pf->as_string()));
     p.require_signed = s->boolean_or("required", true);
   }

@@ -31,7 +31,8 @@ struct MavlinkParams {
   bool require_signed = false;           // drop unsigned frames (needs a secret)
   std::optional<Secret> secret;          // the signing secret (signing.*)
   bool secret_from_vehicle_key = false;  // signing.vehicle_key: main derives it (vehicle_secret)
-  TimeUs mission_retry = 1500000;        // re-request a missing mission item after this long
+  std::string secret_file;  // signing.key_file resolved ("": another source): SETUP_SIGNING saves
+  TimeUs mission_retry = 1500000;  // re-request a missing mission item after this long
 };
 
 struct TransportParams {

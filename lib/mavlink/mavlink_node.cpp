@@ -76,6 +76,8 @@ MavlinkNode::MavlinkNode(MavlinkParams p)
   commands_refused_ = &counter("rejected.command");
   unknown_ = &counter("ignored.unhandled");
   gains_changed_ = &counter("params.gains_set");
+  signing_refused_ = &counter("rejected.setup_signing");
+  signing_set_ = &counter("signing.key_set");
   demand_.station = p_.station;
   demand_.valid = false;
   up_.items.reserve(256);
@@ -219,6 +221,7 @@ void MavlinkNode::on_frame(const FrameReader::Frame& f, TimeUs now) {
     return;
   }
   ++*frames_ok_;
+  frame_signed_ = f.is_signed && checker_;
   dispatch(*f.msg, now);
 }
 
@@ -274,6 +277,9 @@ void MavlinkNode::dispatch(const mavlink_message_t& msg, TimeUs now) {
     }
     case MAVLINK_MSG_ID_MANUAL_CONTROL:
       on_manual_control(msg, now);
+      return;
+    case MAVLINK_MSG_ID_SETUP_SIGNING:
+      on_setup_signing(msg, now);
       return;
     case MAVLINK_MSG_ID_REQUEST_DATA_STREAM:
       on_data_stream(msg);

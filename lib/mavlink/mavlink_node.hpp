@@ -28,6 +28,7 @@
 // MANUAL_CONTROL -> TILLER_MANUAL_DEMAND (x surge, y sway, z heave about z_centre for a
 // submarine, r yaw; each /1000, deadzone, gain), published as it arrives; neutral and invalid
 // until a centred stick, and again after MAN_TIMEOUT without one (then centre again).
+// SETUP_SIGNING (256): mavlink_setup_signing.cpp.
 // Parameters: mavlink/mavlink_params.hpp (the bridge's), then mavlink/mavlink_gains.hpp (the
 // controllers' gains: a set is kept by the bridge, not applied; counted as params.gains_set).
 // Missions: mavlink_mission.cpp. Sources: mavlink_node.cpp (frames, LCM in, telemetry),
@@ -78,6 +79,10 @@ class MavlinkNode : public Node {
 
   explicit MavlinkNode(MavlinkParams p);
   void set_sink(Sink s) { sink_ = std::move(s); }
+  // Where a secret SETUP_SIGNING set is saved (apps/mavlink: signing.key_file); returns false
+  // when it could not be. None: the new secret lasts until the bridge stops.
+  using KeySink = std::function<bool(const Secret& secret)>;
+  void set_key_sink(KeySink s) { key_sink_ = std::move(s); }
   // Bytes from the ground station: a whole UDP datagram (datagram: a partial frame is not carried
   // over) or a piece of a serial stream.
   void on_bytes(const std::uint8_t* data, std::size_t n, bool datagram, TimeUs now);
@@ -141,6 +146,7 @@ class MavlinkNode : public Node {
   std::size_t param_count() const;  // kParams, then the gains
   void set_interval(std::uint32_t msgid, double interval_us);
   void on_data_stream(const mavlink_message_t& msg);
+  void on_setup_signing(const mavlink_message_t& msg, TimeUs now);  // mavlink_setup_signing.cpp
   // missions (mavlink_mission.cpp)
   void on_mission(const mavlink_message_t& msg, TimeUs now);
   void request_item(TimeUs now);
@@ -161,6 +167,8 @@ class MavlinkNode : public Node {
   FrameReader reader_;
   std::optional<SignatureChecker> checker_;
   Sink sink_;
+  KeySink key_sink_;
+  bool frame_signed_ = false;  // the frame being dispatched was signed and verified
   std::uint8_t out_[kMaxFrame] = {};
   std::vector<Stream> streams_;
   // the vehicle, as last heard
@@ -197,6 +205,7 @@ class MavlinkNode : public Node {
   std::int64_t *bad_crc_, *v1_, *bad_sig_, *replay_, *unsigned_, *other_station_, *other_target_;
   std::int64_t *frames_ok_, *bad_check_, *bad_manual_, *pilot_timeout_, *param_refused_;
   std::int64_t *mission_refused_, *commands_, *commands_refused_, *unknown_, *gains_changed_;
+  std::int64_t *signing_refused_, *signing_set_;
 };
 
 // The stored mission, fence and rally sets as one QGroundControl .plan text (the format

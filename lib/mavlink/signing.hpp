@@ -44,6 +44,14 @@ class SignatureChecker {
   // (us since 1970: the local timestamp is the newer of the clock and the newest accepted).
   SignatureVerdict check(const std::uint8_t* frame, std::size_t n, TimeUs now);
   std::uint64_t newest() const { return newest_; }
+  // A new secret (SETUP_SIGNING): the streams are forgotten (each starts again under the new key)
+  // and no timestamp older than `initial` (10 us units since 2015), less the new-stream limit,
+  // is accepted.
+  void rekey(const Secret& key, std::uint64_t initial) {
+    key_ = key;
+    n_streams_ = 0;
+    if (initial > newest_) newest_ = initial;
+  }
 
  private:
   struct Stream {
