@@ -98,6 +98,10 @@ async function main() {
   const params = packets.filter(since(t, (p) => p.msgid === common.ParamValue.MSG_ID));
   check(params.length >= 5 && params.some((p) => p.data.paramId === 'MAN_GAIN'),
         `parameter list: ${params.map((p) => p.data.paramId).join(', ')}`);
+  const kerr = params.find((p) => p.data.paramId === 'VP_SURGE_KERR');
+  check(params.length === 40 && kerr !== undefined && kerr.data.paramValue === 150,
+        `the controllers' gains listed: ${params.length} parameters, VP_SURGE_KERR ` +
+        `${kerr ? kerr.data.paramValue : 'missing'} (config/control/otter.yaml: 150)`);
 
   // Wait for the stack: odometry through (GLOBAL_POSITION_INT) before arming.
   await waitFor((p) => p.msgid === common.GlobalPositionInt.MSG_ID, 15000);
