@@ -287,8 +287,12 @@ void RovAxes::step_xy(const RovState& s, const std::array<double, 6>& stick, dou
   // vehicle): into the body frame for the law, back after it.
   x.i = cy * i_ne_[0] + sy * i_ne_[1];
   y.i = -sy * i_ne_[0] + cy * i_ne_[1];
-  out[kX] = law(kX, ex, x.sp, s.nu[kX], x.holding, dt, rule, reduced[kX]);
-  out[kY] = law(kY, ey, y.sp, s.nu[kY], x.holding, dt, rule, reduced[kY]);
+  // guide()'s feed-forward is the target's NED rate: into the body frame, for this step.
+  const double fu = x.holding ? cy * x.ff + sy * y.ff : 0.0;
+  const double fv = x.holding ? -sy * x.ff + cy * y.ff : 0.0;
+  x.ff = y.ff = 0;
+  out[kX] = law(kX, ex, x.sp + fu, s.nu[kX], x.holding, dt, rule, reduced[kX]);
+  out[kY] = law(kY, ey, y.sp + fv, s.nu[kY], x.holding, dt, rule, reduced[kY]);
   i_ne_ = {cy * x.i - sy * y.i, sy * x.i + cy * y.i};
   // The brake's integral limits, in NED (as the integral).
   if (brake && !x.braking) x.braking = true, i_ne_brake_ = i_ne_;

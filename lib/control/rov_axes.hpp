@@ -92,7 +92,8 @@ class RovAxes {
   // Guidance (waypointing): a kHold axis holds `target` from this step on (neither braking nor
   // overridden while its stick is 0), with `rate` (m/s or rad/s, the target's own rate of change)
   // as the hold law's rate setpoint: out = kp e + kd (rate - v) + I. X and Y take their targets
-  // as NED north and east. Other roles: ignored. The feed-forward lasts one step.
+  // as NED north and east, their rates as NED rates. Other roles: ignored. The feed-forward lasts
+  // one step.
   void guide(int axis, double target, double rate = 0);
   // The force along NED down the Z law asks for (N), before it is turned into the body frame.
   double vertical_force() const { return vertical_; }

@@ -348,7 +348,12 @@ double RovControlNode::path_depth() const {
 void RovControlNode::guide_roles(TimeUs now, std::array<AxisRole, 6>& roles,
                                  std::array<double, 6>& stick) {
   stick = {};  // the pilot's stick is not in waypointing's path
+  const bool was_at_station = at_station_;
   at_station_ = station_fresh_.fresh(now) && station_.active;
+  if (at_station_ && !was_at_station) {
+    station_ref_[0] = state_.north;
+    station_ref_[1] = state_.east;
+  }
   const bool follow = !at_station_ && setpoint_fresh_.fresh(now) && setpoint_.active;
   if (!follow) {
     // The station target, or no guidance (none yet, or lost): X and Y hold (where the vehicle
@@ -386,8 +391,15 @@ void RovControlNode::guide_targets(TimeUs now, double dt) {
   }
   axes_.guide(5, heading_ref_, dh / dt);
   if (at_station_) {
-    axes_.guide(0, station_.position[0]);
-    axes_.guide(1, station_.position[1]);
+    // Toward the target along the straight line, at most half the surge max_rate.
+    const double dn = station_.position[0] - station_ref_[0];
+    const double de = station_.position[1] - station_ref_[1];
+    const double d = std::hypot(dn, de), step = 0.5 * p_.axes[0].max_rate * dt;
+    const double k = d > step ? step / d : 1.0;
+    station_ref_[0] += k * dn;
+    station_ref_[1] += k * de;
+    axes_.guide(0, station_ref_[0], k * dn / dt);
+    axes_.guide(1, station_ref_[1], k * de / dt);
   }
 }
 

@@ -147,6 +147,9 @@ class RovControlNode : public Node {
   path_t path_{};
   path_progress_t progress_{};
   bool at_station_ = false;  // this tick holds the station target
+  // The station's reference (m NED): from where the vehicle is when the target comes, moved
+  // toward the target at half the surge max_rate (no full-gain step on the follower's 0.5 m).
+  double station_ref_[2] = {0, 0};
   double depth_ref_ = 0, heading_ref_ = 0;
   std::int64_t *bad_setpoint_ = nullptr, *bad_station_ = nullptr, *bad_path_ = nullptr,
                *bad_progress_ = nullptr;

@@ -161,10 +161,16 @@ TEST(RovWaypointing, TheStationTargetIsHeldAtTheLastWaypointsDepth) {
   r.path(0);
   r.feed(0, 1'000'000, kAll, 9.8, 4.0, 0.0);
   r.request(100'000);
-  r.feed(1'000'000, 3'000'000, kAll, 9.8, 4.0, 0.0, /*station=*/true);
-  r.ex.run_until(2'900'000);
+  r.feed(1'000'000, 4'000'000, kAll, 9.8, 4.0, 0.0, /*station=*/true);
+  // The station's reference starts at the vehicle (9.8, 0) and moves toward (10, 0.5), 0.539 m
+  // away, at half the surge max_rate (0.25 m/s): 0.25 m along after 1 s.
+  r.ex.run_until(2'000'000);
   EXPECT_EQ(r.node.axes().role(0), AxisRole::kHold);
   EXPECT_EQ(r.node.axes().role(1), AxisRole::kHold);
+  const double moved = std::hypot(r.node.axes().target(0) - 9.8, r.node.axes().target(1) - 0.0);
+  EXPECT_NEAR(moved, 0.25, 0.25 * 0.05 + 1e-9);  // within a tick or two of 1 s
+  EXPECT_NEAR((r.node.axes().target(1) - 0.0) / (r.node.axes().target(0) - 9.8), 0.5 / 0.2, 1e-9);
+  r.ex.run_until(3'900'000);  // 2.15 s: there, and held
   EXPECT_EQ(r.node.axes().target(0), 10.0);
   EXPECT_EQ(r.node.axes().target(1), 0.5);
   EXPECT_NEAR(r.node.depth_reference(), 4.0, 1e-9);  // the path complete: the last point's depth
