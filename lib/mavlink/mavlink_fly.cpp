@@ -12,6 +12,7 @@
 #include <tiller/mission_command_t.hpp>
 
 #include "mavlink/mavlink_node.hpp"
+#include "core/message_checks.hpp"
 #include "mission/plan_file.hpp"
 #include "runtime/channels.hpp"
 
@@ -115,6 +116,10 @@ void MavlinkNode::end_flight() {
 }
 
 void MavlinkNode::on_progress(const path_progress_t& m, TimeUs now) {
+  if (checks::check(m) != nullptr) {  // its contract first: a bad one is counted, never acted on
+    reject(counter("rejected.path_progress.invalid"));  // made on first use
+    return;
+  }
   if (!seq_ || !m.complete || m.path_id != leg_path_.path_id) return;
   fly(seq_->on_leg_complete(now), now);
 }
