@@ -11,8 +11,8 @@
 
 #include <tiller/mission_command_t.hpp>
 
-#include "mavlink/mavlink_node.hpp"
 #include "core/message_checks.hpp"
+#include "mavlink/mavlink_node.hpp"
 #include "mission/plan_file.hpp"
 #include "runtime/channels.hpp"
 
