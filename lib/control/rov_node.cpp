@@ -9,6 +9,7 @@
 
 #include "control/integrator_gate.hpp"
 #include "core/angles.hpp"
+#include "core/checks.hpp"
 #include "core/message_checks.hpp"
 #include "runtime/channels.hpp"
 
@@ -298,10 +299,7 @@ void RovControlNode::on_setpoint(const velocity_setpoint_t& m, TimeUs now) {
 void RovControlNode::on_station_target(const station_target_t& m, TimeUs now) {
   if (!on_time(station_fresh_, m.utime, now, "station_target")) return;
   // As tiller-station-keep takes it: the contract, and an active target within 1e6 m.
-  const bool far =
-      m.active && !(std::fabs(m.position[0]) <= 1e6 && std::fabs(m.position[1]) <= 1e6 &&
-                    std::fabs(m.position[2]) <= 1e6);
-  if (far || checks::check(m) != nullptr) {
+  if ((m.active && !all_in_range(m.position, -1e6, 1e6)) || checks::check(m) != nullptr) {
     station_fresh_.reset();
     reject(*bad_station_);
     return;

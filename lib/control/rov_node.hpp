@@ -33,16 +33,10 @@
 // the stick), blended like any switch, counted (position_hold.lost), said in the arbitration's
 // reason and a DEGRADED heartbeat, and published on TILLER_MODE (source "rov-control") so the
 // pilot's station shows it and repeats it: position hold resumes only when selected again.
-// Waypointing (a mission from tiller-mission, the cockpit or a ground station: autonomy, so the
-// mixer's gate waits for the operator's START, and the stick is not needed) follows
-// TILLER_VELOCITY_SETPOINT (NED, turned into body u, v for the surge and sway rate laws), holds
-// the depth on a reference moved at half the heave max_rate toward the path's depth (TILLER_PATH
-// waypoints' position[2], interpolated along the segment TILLER_PATH_PROGRESS names by the
-// vehicle's projection on it) and the heading on one moved at half the yaw max_rate toward the
-// follower's target heading; once TILLER_STATION_TARGET is active it holds that point, the last
-// waypoint's depth and the target's heading (RovAxes::guide, with the references' rates as
-// feed-forward). Without a fresh, active setpoint or target it holds where it is (brakes and
-// captures, as position hold). A lost position falls back as position hold's does. Bad
+// Waypointing (a mission: autonomy to the mixer's gate, no stick) flies TILLER_VELOCITY_SETPOINT
+// (NED, into body u, v), the depth of TILLER_PATH along the TILLER_PATH_PROGRESS segment and the
+// follower's heading, on references moved at half the axis' max_rate, then holds
+// TILLER_STATION_TARGET; docs/flying.md "Missions at depth". A lost position falls back. Bad
 // input is dropped and counted (rejected.<input>.<reason>). Pure: messages and time in; no clock;
 // nothing allocates per tick.
 #pragma once

@@ -58,21 +58,6 @@ Setting parse_setting(const std::string& text) {
 
 namespace {
 
-// The path's depth at the point of the horizontally nearest segment (m); a single point's own.
-double path_depth_at(const std::vector<mission::MissionPoint>& w, double n, double e) {
-  if (w.size() == 1) return w[0].depth;
-  double best = 1e300, depth = 0;
-  for (std::size_t k = 0; k + 1 < w.size(); ++k) {
-    const double dn = w[k + 1].north - w[k].north, de = w[k + 1].east - w[k].east;
-    const double l2 = dn * dn + de * de;
-    const double t =
-        l2 > 0 ? std::clamp(((n - w[k].north) * dn + (e - w[k].east) * de) / l2, 0.0, 1.0) : 0.0;
-    const double d = std::hypot(n - (w[k].north + t * dn), e - (w[k].east + t * de));
-    if (d < best) best = d, depth = w[k].depth + t * (w[k + 1].depth - w[k].depth);
-  }
-  return depth;
-}
-
 std::string existing(const std::string& given, const std::string& fallback, const char* option) {
   const std::string path = app::resolve_path(given.empty() ? fallback : given);
   if (!fs::exists(path)) {
@@ -222,6 +207,9 @@ RunOutcome run(const RunSpec& spec) {
     log = std::make_unique<LogWriter>(spec.log_file);
   }
   std::vector<Event> scored;
+  std::vector<scores::Goal> goals;  // the mission's path, as the scores take it
+  for (const auto& w : m.waypoints)
+    goals.push_back({w.north, w.east, w.has_heading, w.heading, w.depth});
   out.rov = !surface;
   odometry_t gt;
   double depth_sq = 0;
@@ -297,7 +285,7 @@ RunOutcome run(const RunSpec& spec) {
     if (out.rov && mnode.began_at() >= 0 && ch == channels::kGroundTruth &&
         gt.decode(d, 0, n) == n) {
       const double err =
-          gt.position[2] - path_depth_at(m.waypoints, gt.position[0], gt.position[1]);
+          gt.position[2] - scores::depth_on_path(gt.position[0], gt.position[1], goals);
       if (out.depth_from_s < 0 && std::fabs(err) <= 0.1) out.depth_from_s = to_seconds(t);
       if (out.depth_from_s >= 0) {
         depth_sq += err * err;
@@ -334,9 +322,7 @@ RunOutcome run(const RunSpec& spec) {
   out.sim_s = to_seconds(t);
   if (depth_n > 0) out.depth_rms_m = std::sqrt(depth_sq / static_cast<double>(depth_n));
   out.started_at = mnode.began_at() >= 0 ? to_seconds(mnode.began_at()) : -1.0;
-  std::vector<scores::Goal> path;
-  for (const auto& w : m.waypoints) path.push_back({w.north, w.east, w.has_heading, w.heading});
-  out.scores = scores::score_events(scored, path);
+  out.scores = scores::score_events(scored, goals);
   return out;
 }
 

@@ -12,18 +12,39 @@ double vrx_error(double d, double h) {
   return d + std::pow(0.75, d) * h;
 }
 
+namespace {
+// The nearest point of segment a-b to (n, e): its fraction t along it in [0, 1] and the distance.
+struct Nearest {
+  double t, distance;
+};
+Nearest nearest_on(const Goal& a, const Goal& b, double n, double e) {
+  const double sn = b.north - a.north, se = b.east - a.east;
+  const double l2 = sn * sn + se * se;
+  const double t =
+      std::clamp(l2 > 0 ? ((n - a.north) * sn + (e - a.east) * se) / l2 : 0.0, 0.0, 1.0);
+  return {t, std::hypot(n - (a.north + t * sn), e - (a.east + t * se))};
+}
+}  // namespace
+
 double distance_to_path(double n, double e, const std::vector<Goal>& path) {
   if (path.empty()) return 0;
   double best = std::hypot(n - path[0].north, e - path[0].east);
-  for (std::size_t k = 1; k < path.size(); ++k) {
-    const double an = path[k - 1].north, ae = path[k - 1].east;
-    const double sn = path[k].north - an, se = path[k].east - ae;
-    const double l2 = sn * sn + se * se;
-    double t = l2 > 0 ? ((n - an) * sn + (e - ae) * se) / l2 : 0.0;
-    t = std::clamp(t, 0.0, 1.0);
-    best = std::min(best, std::hypot(n - (an + t * sn), e - (ae + t * se)));
-  }
+  for (std::size_t k = 1; k < path.size(); ++k)
+    best = std::min(best, nearest_on(path[k - 1], path[k], n, e).distance);
   return best;
+}
+
+double depth_on_path(double n, double e, const std::vector<Goal>& path) {
+  if (path.empty()) return 0;
+  double best = std::numeric_limits<double>::infinity(), depth = path[0].depth;
+  for (std::size_t k = 1; k < path.size(); ++k) {
+    const Nearest p = nearest_on(path[k - 1], path[k], n, e);
+    if (p.distance < best) {
+      best = p.distance;
+      depth = path[k - 1].depth + p.t * (path[k].depth - path[k - 1].depth);
+    }
+  }
+  return depth;
 }
 
 static double heading_error(const Goal& g, double heading) {

@@ -36,6 +36,7 @@ struct Goal {
   double north = 0, east = 0;
   bool has_heading = false;
   double heading = 0;
+  double depth = 0;  // m, NED down (an ROV's path; 0 for a boat's)
 };
 
 struct PathScores {
@@ -60,6 +61,9 @@ std::vector<Goal> path_as_followed(const std::vector<Goal>& path, const std::vec
 double vrx_error(double d, double h);
 // Distance from a point to a polyline (a single point: distance to it).
 double distance_to_path(double n, double e, const std::vector<Goal>& path);
+// The path's depth (m) at the point of its horizontally nearest segment to (n, e), interpolated
+// between the segment's two depths; a one-point path's own. tiller-run's ROV depth error.
+double depth_on_path(double n, double e, const std::vector<Goal>& path);
 
 // `start`: time the path was given; `complete_at`: when the follower reported it complete (if
 // known; otherwise the time the last waypoint was reached in order).
