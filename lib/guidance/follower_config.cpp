@@ -91,6 +91,14 @@ FollowerParams load_follower_params(const config::Value& v) {
   p.turn_arc_water = v.choice_or("turn_arc_frame", "ground", {"ground", "water"}) == "water";
   // The current along a leg from the velocity PID's surge integral (issue 35); absent: off.
   p.surge_integral_drag = v.number_or("surge_integral_drag", 0, {0, 1e5});
+  // Corners as a pivot (issue 35, pivot_turn.hpp); absent: off.
+  p.turn_pivot = v.boolean_or("turn_pivot", false);
+  p.pivot_min_angle = v.angle_deg_or("pivot_min_angle_deg", p.pivot_min_angle, {1, 180});
+  p.pivot_turn_rate = v.number_or("pivot_turn_rate", p.pivot_turn_rate, {0.01, 10});
+  p.pivot_allowance = v.number_or("pivot_allowance", p.pivot_allowance, {0, 10});
+  p.pivot_max_offset = v.number_or("pivot_max_offset", p.pivot_max_offset, {0, 10});
+  p.pivot_hold_gain = v.number_or("pivot_hold_gain", p.pivot_hold_gain, {0.01, 10});
+  p.pivot_exit_angle = v.angle_deg_or("pivot_exit_angle_deg", p.pivot_exit_angle, {0.1, 90});
   return p;
 }
 

@@ -3,6 +3,8 @@
 #include <algorithm>
 #include <cmath>
 
+#include "guidance/pivot_turn.hpp"
+
 namespace tiller::guidance {
 
 PathFollower::PathFollower(const FollowerParams& p) : p_(p) {}
@@ -24,6 +26,23 @@ void PathFollower::clear() {
   last_pos_valid_ = false;
   along_seg_ = -1;
   along_current_ = 0;
+  reset_pivot();
+}
+
+void PathFollower::reset_pivot() {
+  pivot_seg_ = -1;
+  pivot_active_ = false;
+  pivot_done_ = false;
+  pivot_time_ = 0;
+}
+
+bool PathFollower::pivot_corner(int seg) const {
+  const int n = static_cast<int>(pts_.size());
+  if (!p_.turn_pivot || seg < 0 || seg + 2 >= n) return false;
+  const auto k = static_cast<std::size_t>(seg);
+  const Vec2 t1 = (pts_[k + 1].position - pts_[k].position).normalized();
+  const Vec2 t2 = (pts_[k + 2].position - pts_[k + 1].position).normalized();
+  return std::acos(std::clamp(t1.dot(t2), -1.0, 1.0)) >= p_.pivot_min_angle;
 }
 
 void PathFollower::arc_for(double angle, double& radius, double& speed) const {
@@ -270,7 +289,12 @@ FollowerOutput PathFollower::update(const Vec2& pos, double heading, double dt) 
     bool arc_cut = false;  // left at the arc's start: the corner is flown along it
     bool defer = false;    // a water turn starts later: reaching p2 does not end the segment
     bool water_cut = false;
-    if (!last && p_.turn_rate > 0 && rel == SegmentRelation::kMiddle) {
+    const bool pivot_here = pivot_corner(seg_);
+    if (pivot_here) {
+      // Flown as a pivot: the segment ends when the turn in place has ended (update's leg part).
+      cut = false;
+      defer = !(pivot_done_ && pivot_seg_ == seg_);
+    } else if (!last && p_.turn_rate > 0 && rel == SegmentRelation::kMiddle) {
       // Turn anticipation: leave the segment at the wheel-over point.
       const Vec2 t1 = s.normalized();
       const Vec2 t2 = (pts_[static_cast<std::size_t>(seg_ + 2)].position - p2).normalized();
@@ -304,14 +328,17 @@ FollowerOutput PathFollower::update(const Vec2& pos, double heading, double dt) 
       }
     }
     if (defer) cut = false;  // not the corner cut either: the turn starts at its point
-    if ((reached && !defer) || cut || rel == SegmentRelation::kInFront) {
+    const bool ends =
+        pivot_here ? !defer : (reached && !defer) || cut || rel == SegmentRelation::kInFront;
+    if (ends) {
       const bool skip =
           min_dist_[static_cast<std::size_t>(seg_ + 1)] >= p_.acceptance_radius && !cut;
       if (skip) ++skipped_;
       carry_state(seg_, seg_ + 1);
       ++seg_;
       on_arc_ = arc_cut && (water_cut || !reached);
-      entered_by_cut_ = cut;
+      entered_by_cut_ = cut || pivot_here;
+      reset_pivot();
       entered_by_skip_ = skip;
       if (last) complete_ = true;
       continue;
@@ -331,6 +358,7 @@ FollowerOutput PathFollower::update(const Vec2& pos, double heading, double dt) 
         carry_state(seg_, seg_ - 1);
         --seg_;
         on_arc_ = false;
+        reset_pivot();
         entered_by_cut_ = false;
         entered_by_skip_ = false;
         ++stepped_back_;
@@ -442,14 +470,35 @@ FollowerOutput PathFollower::update(const Vec2& pos, double heading, double dt) 
       const Vec2 t2 = (pts_[static_cast<std::size_t>(seg_ + 2)].position - p2).normalized();
       const double angle = std::acos(std::clamp(t.dot(t2), -1.0, 1.0));
       double radius = 0, arc_speed = 0;
-      arc_for(angle, radius, arc_speed);
+      if (!pivot_corner(seg_)) arc_for(angle, radius, arc_speed);
       WaterTurn wt;
       if (radius > 0 && p_.turn_arc_water)
         wt = plan_water_turn(t, t2, current_full(), arc_speed, p_.turn_rate);
-      out.wheel_over = wt.valid     ? wt.lead
-                       : radius > 0 ? radius * std::tan(angle / 2)
-                                    : wheel_over(angle, p_.max_speed * turn_factor(angle)) +
-                                          drift_lead(t, t2, angle);
+      if (pivot_corner(seg_)) {
+        // A pivot: brake to S (set back by the drift the current estimate predicts; fixed once
+        // the pivot has started) and start turning in place there.
+        if (!pivot_active_) {
+          const Vec2 c = current_full();
+          pivot_point_ = p2 - t * pivot_setback(t, t2, c, p_.pivot_turn_rate, p_.pivot_allowance,
+                                                p_.pivot_max_offset);
+          const Vec2 n2(-t2.y(), t2.x());
+          const Vec2 h2 = t2 * p_.max_speed - n2 * n2.dot(c);  // the next leg's crab
+          pivot_heading_ = std::atan2(h2.y(), h2.x());
+        }
+        const double to_s = t.dot(pivot_point_ - pos);
+        out.wheel_over = t.dot(p2 - pivot_point_);
+        if (!pivot_active_ && to_s <= p_.pivot_trigger) {
+          pivot_active_ = true;
+          pivot_seg_ = seg_;
+          pivot_time_ = 0;
+        }
+        out.turn_factor = std::sqrt(2.0 * p_.braking_decel * std::max(0.0, to_s)) / p_.max_speed;
+        along_speed = std::min(along_speed, p_.max_speed * out.turn_factor);
+      } else
+        out.wheel_over = wt.valid     ? wt.lead
+                         : radius > 0 ? radius * std::tan(angle / 2)
+                                      : wheel_over(angle, p_.max_speed * turn_factor(angle)) +
+                                            drift_lead(t, t2, angle);
       if (wt.valid && (p2 - pos).norm() < p_.turn_slowdown_distance + out.wheel_over) {
         // At the water turn's ground speed before it starts (its speed through the water).
         out.turn_factor = wt.ground1 / p_.max_speed;
@@ -528,12 +577,26 @@ FollowerOutput PathFollower::update(const Vec2& pos, double heading, double dt) 
   // the straight line to the goal below goal_heading_distance: on a closed course the goal is
   // also the start, and there the boat must head along the first segment, not face the goal's
   // heading (which turned the Otter -0.7 rad and 2 m off the first leg).
+  if (pivot_active_ && !complete_) {
+    // Turning in place: hold S (surge cancels the current along the heading).
+    pivot_time_ += std::max(0.0, dt);
+    v = (pivot_point_ - pos) * p_.pivot_hold_gain;
+    const double m = v.norm();
+    if (m > p_.approach_max_speed) v *= p_.approach_max_speed / m;
+    out.pivot = true;
+  }
   const double speed = v.norm();
   const bool last_leg = complete_ || seg_ + 2 >= n;
   const bool near_goal = last_leg && out.remaining_path < p_.goal_heading_distance &&
                          out.distance_to_goal < p_.goal_heading_distance;
   bool along_velocity = false;
-  if (is_translation_ || (near_goal && goal_heading_valid_)) {
+  if (out.pivot) {
+    last_heading_ = pivot_heading_;
+    last_heading_valid_ = true;
+    if (std::abs(angle_diff(pivot_heading_, heading)) < p_.pivot_exit_angle ||
+        pivot_time_ > p_.pivot_timeout_s)
+      pivot_done_ = true;  // the segment ends at the next update
+  } else if (is_translation_ || (near_goal && goal_heading_valid_)) {
     if (goal_heading_valid_) {
       last_heading_ = goal_heading_;
       last_heading_valid_ = true;

@@ -133,6 +133,20 @@ struct FollowerParams {
   // current along the heading from that PID's surge integral (TILLER_PID_VELOCITY: at a steady
   // speed I = -k_drag * current along the heading) and hands it to observe_current_along(); 0: off.
   double surge_integral_drag = 0;
+  // Corners flown as a pivot (turn_pivot, pivot_turn.hpp): a corner of at least pivot_min_angle
+  // is flown by stopping at the pivot point S (set back from the corner by pivot_setback), turning
+  // in place while S is held (velocity pivot_hold_gain * (S - position), at most
+  // approach_max_speed) to the outgoing leg's heading, and leaving S when the heading is within
+  // pivot_exit_angle of it (or after pivot_timeout_s). The approach brakes at braking_decel to S.
+  bool turn_pivot = false;
+  double pivot_min_angle = kPi / 4;    // rad: smaller corners keep the wheel-over
+  double pivot_turn_rate = 0.3;        // rad/s: the hull's turn rate in place (the drift's time)
+  double pivot_allowance = 0.1;        // m: accepted past the next leg's line
+  double pivot_max_offset = 0.8;       // m: S at most this far before the corner
+  double pivot_hold_gain = 0.5;        // 1/s: velocity toward S per metre
+  double pivot_exit_angle = kPi / 12;  // rad: heading error at which the pivot ends
+  double pivot_trigger = 0.1;          // m: the pivot starts this far (along the leg) before S
+  double pivot_timeout_s = 30;         // s: the pivot ends after this whatever the heading
 };
 
 struct Waypoint {
@@ -160,6 +174,7 @@ struct FollowerOutput {
   double crab = 0;        // rad: the integral / adaptive state as a crab angle (+ = to the left)
   double wheel_over = 0;  // m before the end point where the segment is left (turn anticipation)
   bool on_arc = false;    // a corner is flown along its arc (turn_arc)
+  bool pivot = false;     // turning in place at a pivot point (turn_pivot)
 };
 
 class PathFollower {
@@ -228,6 +243,14 @@ class PathFollower {
   double arc_speed_ = 0;  // m/s along it
   Vec2 last_pos_{0, 0};   // at the last update() (observe_current_along's gate)
   bool last_pos_valid_ = false;
+  // The pivot (turn_pivot): at the end of segment pivot_seg_, S = pivot_point_.
+  int pivot_seg_ = -1;
+  bool pivot_active_ = false, pivot_done_ = false;
+  Vec2 pivot_point_{0, 0};
+  double pivot_heading_ = 0;         // rad NED: the outgoing leg's heading, its crab included
+  double pivot_time_ = 0;            // s since the pivot started
+  bool pivot_corner(int seg) const;  // the corner at the end of `seg` is flown as a pivot
+  void reset_pivot();
   int along_seg_ = -1;        // the leg the along-leg current was measured on (-1: none)
   double along_current_ = 0;  // m/s along that leg
   double crab() const;

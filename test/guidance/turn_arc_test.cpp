@@ -6,6 +6,7 @@
 
 #include "core/angles.hpp"
 #include "guidance/path_follower.hpp"
+#include "guidance/pivot_turn.hpp"
 #include "guidance/turn_arc.hpp"
 
 namespace tiller::guidance {
@@ -132,6 +133,23 @@ TEST(WaterTurn, TheCurrentAlongALegIsTakenInTheLegsMiddle) {
   f.observe_current_along(kPi / 2, 0.2);
   EXPECT_NEAR(f.current_full().y(), 0.2, 1e-12);
   EXPECT_NEAR(f.current_full().x(), 0, 1e-12);
+}
+
+// The pivot's drift (pivot_turn.hpp): for a 90 deg turn D = (pi / 4 c1 - c2 / 2) / r, c1 and c2
+// the current along the incoming and outgoing legs.
+TEST(PivotTurn, TheDriftOfANinetyDegreeTurnIsQuarterPiC1LessHalfC2OverTheRate) {
+  const Vec2 east(0, 1), north(1, 0);
+  const Vec2 c(0.15, 0.26);  // toward 60 deg: 0.26 along the eastward leg, 0.15 along north
+  const double d = pivot_drift(east, north, c, 0.3);
+  EXPECT_NEAR(d, (kPi / 4 * 0.26 - 0.15 / 2) / 0.3, 2e-3);  // 0.4307 m outward
+  // The other way round (a right turn, north to east): c1 = 0.15, c2 = 0.26.
+  EXPECT_NEAR(pivot_drift(north, east, c, 0.3), (kPi / 4 * 0.15 - 0.26 / 2) / 0.3, 2e-3);
+  EXPECT_EQ(pivot_drift(east, north, Vec2(0, 0), 0.3), 0.0);
+  EXPECT_EQ(pivot_drift(east, north, c, 0.0), 0.0);
+  // The setback: the drift less the allowance, within [0, max_offset].
+  EXPECT_NEAR(pivot_setback(east, north, c, 0.3, 0.1, 0.8), d - 0.1, 1e-12);
+  EXPECT_EQ(pivot_setback(east, north, c, 0.3, 0.1, 0.2), 0.2);
+  EXPECT_EQ(pivot_setback(north, east, c, 0.3, 0.1, 0.8), 0.0);  // the drift is inward
 }
 
 }  // namespace
