@@ -470,11 +470,12 @@ FollowerOutput PathFollower::update(const Vec2& pos, double heading, double dt) 
       const Vec2 t2 = (pts_[static_cast<std::size_t>(seg_ + 2)].position - p2).normalized();
       const double angle = std::acos(std::clamp(t.dot(t2), -1.0, 1.0));
       double radius = 0, arc_speed = 0;
-      if (!pivot_corner(seg_)) arc_for(angle, radius, arc_speed);
+      const bool pivot = pivot_corner(seg_);
+      if (!pivot) arc_for(angle, radius, arc_speed);
       WaterTurn wt;
       if (radius > 0 && p_.turn_arc_water)
         wt = plan_water_turn(t, t2, current_full(), arc_speed, p_.turn_rate);
-      if (pivot_corner(seg_)) {
+      if (pivot) {
         // A pivot: brake to S (set back by the drift the current estimate predicts; fixed once
         // the pivot has started) and start turning in place there.
         if (!pivot_active_) {

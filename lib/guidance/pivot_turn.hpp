@@ -2,15 +2,10 @@
 // incoming leg, turns there in place to the outgoing leg's heading while it holds S, and only
 // then sets off along the outgoing leg. World frame: local NED [north east] m, m/s, rad.
 //
-// Why: an underactuated hull (no sway thrust: the Otter) turns at its own rate, 0.3 rad/s, so a
-// 90 deg corner takes 5 s whatever the guidance does. Flown at speed (wheel-over, arc) the
-// current carries it c * 5 s = 1.5 m in 0.3 m/s, and the turn must start that far inside the
-// corner to end on the next leg: outside a 1 m acceptance radius. Turning in place, the
-// thrusters cancel the current's part along the heading at every instant (surge holds S); only
-// its part across the heading, which no thruster of the hull can oppose, drifts the boat. S is
-// set back from the corner along the incoming leg by that predicted drift across the outgoing
-// leg (pivot_drift), less an allowance, and never more than a maximum offset (inside the
-// acceptance radius): the boat reaches the corner and ends the turn near the next leg's line.
+// Turning in place, surge cancels the current's part along the heading; only its part across the
+// heading, which an underactuated hull cannot oppose, drifts the boat. S is set back from the
+// corner along the incoming leg by that drift (pivot_drift) less an allowance, at most a maximum
+// offset inside the acceptance radius. Measured in docs/corners.md.
 //
 // The drift: the heading h(theta) turns from t1 to t2 at rate r; n(theta) is its normal and o the
 // outside of the turn (t1's part normal to t2, unit). The drift outward is
